@@ -1,0 +1,15 @@
+/// @file error.hpp
+/// @brief pfill's exception type. Every message is one line that names the
+/// problem and, where there is one, the way out.
+#pragma once
+#include <stdexcept>
+#include <string>
+
+namespace pfill {
+
+class Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+}  // namespace pfill

@@ -1,0 +1,36 @@
+/// @file grid.hpp
+/// @brief A regular 3D grid of float samples, the form in which the signed
+/// distance field travels from the boundary (Embree side) to the engine
+/// (OpenCL side); neither side needs the other's headers.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+/// Samples at origin + spacing * (i, j, k), i fastest:
+/// values[i + nx * (j + ny * k)]. Ready to upload as one OpenCL buffer or
+/// as a 3D image of CL_R / CL_FLOAT.
+struct ScalarGrid {
+  Vec3 origin;
+  double spacing = 0;
+  std::array<int, 3> dims{0, 0, 0};  ///< nx, ny, nz
+  std::vector<float> values;
+
+  size_t index(int i, int j, int k) const {
+    return static_cast<size_t>(i) +
+           static_cast<size_t>(dims[0]) * (static_cast<size_t>(j) + static_cast<size_t>(dims[1]) * k);
+  }
+  float at(int i, int j, int k) const { return values[index(i, j, k)]; }
+  Vec3 point(int i, int j, int k) const { return origin + Vec3(i, j, k) * spacing; }
+  size_t size() const { return values.size(); }
+  size_t bytes() const { return values.size() * sizeof(float); }
+  Vec3 upper() const {
+    return origin + Vec3(dims[0] - 1, dims[1] - 1, dims[2] - 1) * spacing;
+  }
+};
+
+}  // namespace pfill
