@@ -1,0 +1,43 @@
+/// @file mesh_diagnostics.hpp
+/// @brief What `pfill info` reports about a mesh: size, topology (closed or
+/// not, holes, non-manifold edges, genus), orientation, volume and area, and
+/// the particle radius that fits a given count.
+#pragma once
+#include <cstddef>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "pfill/mesh.hpp"
+
+namespace pfill {
+
+struct MeshDiagnostics {
+  size_t vertices = 0;            ///< vertices used by some triangle
+  size_t triangles = 0;
+  Box3 bounds;
+  size_t components = 0;          ///< connected through shared vertices
+  size_t edges = 0;               ///< distinct undirected edges
+  size_t boundary_edges = 0;      ///< edges of exactly one triangle
+  size_t boundary_loops = 0;      ///< holes: closed chains of boundary edges
+  size_t non_manifold_edges = 0;  ///< edges of three or more triangles
+  size_t misoriented_edges = 0;   ///< two-triangle edges walked the same way by both
+  size_t degenerate_triangles = 0;///< repeated vertex or (near) zero area
+  /// Divergence-theorem volume; holes are closed by a fan to each loop's
+  /// centroid first, so an open scan still gets a sensible estimate.
+  double signed_volume = 0;
+  double surface_area = 0;
+  std::optional<int> genus;       ///< total genus; only for closed, manifold meshes
+
+  bool watertight() const { return boundary_edges == 0 && non_manifold_edges == 0; }
+  bool inside_out() const { return signed_volume < 0; }
+  double volume() const { return signed_volume < 0 ? -signed_volume : signed_volume; }
+};
+
+MeshDiagnostics diagnose(const Mesh& mesh);
+
+/// Radius r such that `count` spheres of radius r fill `volume` at the given
+/// packing fraction: count * 4/3 pi r^3 = packing * volume.
+double radius_for_count(double volume, double count, double packing = 0.6);
+
+}  // namespace pfill
