@@ -1,0 +1,33 @@
+// Helpers shared by the mesh readers (internal to src/mesh): file checks,
+// file bytes, image decoding and the linear-to-sRGB transfer function.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pfill/mesh.hpp"
+
+namespace pfill::detail {
+
+/// Throws pfill::Error naming `path` if it cannot be opened, is a folder or
+/// is empty.
+void require_readable_file(const std::string& path);
+
+/// The whole file; throws pfill::Error naming `path` on failure.
+std::vector<uint8_t> read_file_bytes(const std::string& path);
+
+/// Folder part of `path` with a trailing '/', or "" for a bare file name.
+std::string folder_of(const std::string& path);
+
+/// Lower-case extension with the dot (".obj"), or "" when there is none.
+std::string lower_extension(const std::string& path);
+
+/// Decodes a PNG/JPEG/BMP/TGA/... image (stb_image) into 8-bit RGBA; throws
+/// pfill::Error naming `name` if it cannot be decoded.
+Texture decode_image(const uint8_t* bytes, size_t size, const std::string& name);
+Texture decode_image_file(const std::string& path);
+
+/// Encodes a linear colour component as sRGB (IEC 61966-2-1), clamped to [0, 1].
+float linear_to_srgb(float linear);
+
+}  // namespace pfill::detail
