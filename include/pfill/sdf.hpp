@@ -26,6 +26,9 @@
 namespace pfill {
 
 struct SdfOptions {
+  SdfOptions() = default;
+  explicit SdfOptions(double spacing_) : spacing(spacing_) {}
+
   double spacing = 0;    ///< grid spacing, > 0
   double margin = -1;    ///< added to every side of the bounding box; < 0: 3 spacings
   double band = -1;      ///< exact where |distance| < band; < 0: 4 spacings; infinity: exact everywhere
