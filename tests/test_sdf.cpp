@@ -1,0 +1,208 @@
+// Signed distance field: narrow-band build against exact queries, sampling,
+// gradient, sign everywhere, and the size/time report.
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "pfill/boundary.hpp"
+#include "pfill/error.hpp"
+#include "pfill/sdf.hpp"
+#include "pfill/shapes.hpp"
+
+using namespace pfill;
+
+namespace {
+
+// Uniform random points in the grid's box.
+std::vector<Vec3> points_in_grid(const ScalarGrid& grid, size_t n, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const Vec3 lo = grid.origin, size = grid.upper() - grid.origin;
+  std::vector<Vec3> points(n);
+  for (Vec3& p : points) p = lo + Vec3(u(rng) * size.x, u(rng) * size.y, u(rng) * size.z);
+  return points;
+}
+
+double cell_diagonal(const ScalarGrid& grid) { return grid.spacing * std::sqrt(3.0); }
+
+// Outward unit normal of the torus (R about z, tube r) nearest to p.
+Vec3 torus_normal(const Vec3& p, double R) {
+  const double rho = std::hypot(p.x, p.y);
+  const Vec3 core(R * p.x / rho, R * p.y / rho, 0.0);
+  return normalize(p - core);
+}
+
+}  // namespace
+
+TEST_CASE("sphere field: samples match exact distances in the band, gradient is the outward unit normal") {
+  // Smooth enough that faceting does not dominate: the gradient of the
+  // trilinear interpolant is off by up to about h / (2 R) for curvature 1/R.
+  const Boundary boundary(make_icosphere(1.0, 5));
+  const double h = 0.025;
+  SdfStats stats;
+  const ScalarGrid grid = build_signed_distance_field(boundary, SdfOptions{h}, &stats);
+  CHECK(stats.band == doctest::Approx(4 * h));
+  // Points whose whole cell lies in the band, where every corner is exact.
+  const double inner_band = stats.band - cell_diagonal(grid);
+  int checked = 0;
+  for (const Vec3& p : points_in_grid(grid, 20000, 1)) {
+    const double exact = boundary.signed_distance(p);
+    if (std::fabs(exact) >= inner_band) continue;
+    CHECK(std::fabs(sample(grid, p) - exact) <= h * h);
+    const double r = length(p);
+    if (r > 0.3) {
+      const Vec3 g = gradient(grid, p);
+      CHECK(std::fabs(length(g) - 1.0) < 0.02);
+      CHECK(dot(normalize(g), p / r) > 0.98);
+    }
+    ++checked;
+  }
+  CHECK(checked > 1000);
+}
+
+TEST_CASE("torus field: exact in the band, right sign and bounded error deeper") {
+  const double R = 1.0, r = 0.4;
+  const Boundary boundary(make_torus(R, r, 96, 48));
+  const double h = 0.04;
+  // Curvature up to 1/r across the tube: the trilinear gradient's length is
+  // off by up to about h / (2 r) there, the value by about h^2 / r.
+  const double gradient_tolerance = 0.5 * h / r + 0.005;
+  SdfStats stats;
+  const ScalarGrid grid = build_signed_distance_field(boundary, SdfOptions{h}, &stats);
+  const double inner_band = stats.band - cell_diagonal(grid);
+  // The coarsest octree cells decide how far deep values may be off.
+  const double coarse_diagonal = cell_diagonal(grid) * (1 << stats.levels);
+  int band_points = 0, deep_points = 0;
+  for (const Vec3& p : points_in_grid(grid, 20000, 2)) {
+    const double exact = boundary.signed_distance(p);
+    const double value = sample(grid, p);
+    if (std::fabs(exact) > h) CHECK((value < 0) == (exact < 0));
+    if (std::fabs(exact) < inner_band) {
+      CHECK(std::fabs(value - exact) <= h * h / r);
+      // Away from the medial axes (the core circle and the z axis).
+      if (std::hypot(p.x, p.y) > 0.3) {
+        const Vec3 g = gradient(grid, p);
+        CHECK(std::fabs(length(g) - 1.0) < gradient_tolerance);
+        CHECK(dot(normalize(g), torus_normal(p, R)) > 0.98);
+      }
+      ++band_points;
+    } else if (std::fabs(exact) > stats.band + cell_diagonal(grid)) {
+      // Deep: all 8 corners are at least the band deep, so is the sample.
+      CHECK(std::fabs(value) >= stats.band * (1 - 1e-6));
+      CHECK(std::fabs(value - exact) <= coarse_diagonal);
+      ++deep_points;
+    }
+  }
+  CHECK(band_points > 1000);
+  CHECK(deep_points > 1000);
+  // The hole's axis is outside.
+  for (double z = -0.5; z <= 0.5; z += 0.25) CHECK(sample(grid, Vec3{0, 0, z}) > 0);
+}
+
+TEST_CASE("the narrow band holds exactly the values of a fully exact field") {
+  const Boundary boundary(make_torus(1.0, 0.4, 32, 16));
+  SdfOptions narrow{0.03};
+  SdfOptions full{0.03};
+  full.band = std::numeric_limits<double>::infinity();
+  SdfStats narrow_stats, full_stats;
+  const ScalarGrid a = build_signed_distance_field(boundary, narrow, &narrow_stats);
+  const ScalarGrid b = build_signed_distance_field(boundary, full, &full_stats);
+  REQUIRE(a.dims == b.dims);
+  CHECK(full_stats.exact_queries == full_stats.samples);
+  CHECK(narrow_stats.levels >= 1);
+  size_t in_band = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    CHECK((a.values[i] < 0) == (b.values[i] < 0));
+    if (std::fabs(b.values[i]) < narrow_stats.band) {
+      CHECK(a.values[i] == b.values[i]);
+      ++in_band;
+    } else {
+      CHECK(std::fabs(a.values[i]) >= narrow_stats.band * (1 - 1e-6));
+    }
+  }
+  CHECK(in_band > 1000);
+  // Exact work stays near the band: the octree's overhead is its last
+  // level's cells straddling the band's edge.
+  CHECK(narrow_stats.exact_queries < 2 * in_band);
+  CHECK(narrow_stats.exact_queries < full_stats.exact_queries * 7 / 10);
+}
+
+TEST_CASE("cube field: signs everywhere, inside-out cube gives the same field") {
+  const Boundary cube(make_cube(1.0, 4));
+  const Boundary inverted(make_inside_out_cube(1.0, 4));
+  SdfOptions options{0.07};
+  options.margin = 0.2;
+  SdfStats stats;
+  const ScalarGrid a = build_signed_distance_field(cube, options, &stats);
+  const ScalarGrid b = build_signed_distance_field(inverted, options);
+  CHECK(a.values == b.values);
+  CHECK(stats.samples == a.size());
+  CHECK(stats.bytes == a.size() * sizeof(float));
+  CHECK(stats.dims == a.dims);
+  CHECK(stats.seconds > 0);
+  CHECK(stats.triangles == 6 * 4 * 4 * 2);
+  // The grid covers the box plus the margin, centred.
+  CHECK(a.origin.x <= -1.2 + 1e-12);
+  CHECK(a.upper().x >= 1.2 - 1e-12);
+  for (int k = 0; k < a.dims[2]; ++k)
+    for (int j = 0; j < a.dims[1]; ++j)
+      for (int i = 0; i < a.dims[0]; ++i) {
+        const Vec3 p = a.point(i, j, k);
+        const double m = std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z)});
+        if (std::fabs(m - 1) > 1e-6) CHECK((a.at(i, j, k) < 0) == (m < 1));
+      }
+}
+
+TEST_CASE("sample() outside the grid grows away from it; gradient agrees with finite differences") {
+  const Boundary boundary(make_icosphere(1.0, 3));
+  const ScalarGrid grid = build_signed_distance_field(boundary, SdfOptions{0.1});
+  const Vec3 dir = normalize(Vec3{0.3, -0.5, 0.8});
+  double previous = sample(grid, dir * 1.2);
+  for (double t = 1.4; t < 10; t += 0.5) {
+    const double value = sample(grid, dir * t);
+    CHECK(value > previous);
+    CHECK(value >= t - 1.0 - 0.05);  // at least about the true distance
+    previous = value;
+  }
+  CHECK(dot(gradient(grid, dir * 5), dir) > 0.5);
+  CHECK(sample(grid, Vec3{0, 0, 10}) == doctest::Approx(sample(grid, Vec3{0, 0, grid.upper().z}) + 10 - grid.upper().z));
+  // Analytic gradient == central differences of sample() inside a cell.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-1.2, 1.2);
+  const double e = 1e-6;
+  for (int n = 0; n < 200; ++n) {
+    const Vec3 p{u(rng), u(rng), u(rng)};
+    const Vec3 g = gradient(grid, p);
+    for (int a = 0; a < 3; ++a) {
+      Vec3 dp;
+      dp[a] = e;
+      const double fd = (sample(grid, p + dp) - sample(grid, p - dp)) / (2 * e);
+      CHECK(fd == doctest::Approx(g[a]).epsilon(1e-4).scale(1.0));
+    }
+  }
+}
+
+TEST_CASE("field options and grids are checked") {
+  const Boundary boundary(make_cube());
+  CHECK_THROWS_AS(build_signed_distance_field(boundary, SdfOptions{0.0}), Error);
+  CHECK_THROWS_AS(build_signed_distance_field(boundary, SdfOptions{-1.0}), Error);
+  CHECK_THROWS_AS(build_signed_distance_field(boundary, SdfOptions{std::nan("")}), Error);
+  SdfOptions huge{1e-4};
+  huge.max_samples = 1000000;
+  CHECK_THROWS_WITH_AS(build_signed_distance_field(boundary, huge), doctest::Contains("larger spacing"), Error);
+  CHECK_THROWS_AS(sample(ScalarGrid{}, Vec3{}), Error);
+  const ScalarGrid grid = build_signed_distance_field(boundary, SdfOptions{0.25});
+  CHECK_THROWS_AS(sample(grid, Vec3{std::nan(""), 0, 0}), Error);
+  CHECK_THROWS_AS(spacing_for_resolution(Box3{}, 64), Error);
+  Box3 box;
+  box.add({0, 0, 0});
+  box.add({2, 1, 1});
+  CHECK(spacing_for_resolution(box, 65, 2) == doctest::Approx(2.0 / 60));
+  CHECK_THROWS_AS(spacing_for_resolution(box, 4, 2), Error);
+  // The resolution helper and the build agree on the longest axis.
+  const Boundary sphere(make_icosphere(1.0, 2));
+  const ScalarGrid g = build_signed_distance_field(sphere, SdfOptions{spacing_for_resolution(sphere.mesh().bounds(), 40)});
+  CHECK(std::max({g.dims[0], g.dims[1], g.dims[2]}) == 40);
+}
