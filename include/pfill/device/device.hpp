@@ -1,0 +1,68 @@
+/// @file device.hpp
+/// @brief Finding and opening an OpenCL device: listing, choice by index or
+/// name (the CLI's --device, the environment variable PFILL_DEVICE), and the
+/// Device object that owns the context and the in-order command queue.
+/// @note Built on the Khronos C++ bindings (<CL/opencl.hpp>) with their
+/// exceptions off; every status goes through check_cl (device_error.hpp).
+#pragma once
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+namespace pfill {
+
+/// One OpenCL device as `pfill devices` shows it.
+struct DeviceInfo {
+  int index = 0;             ///< position in list_devices(), platform by platform
+  std::string platform;      ///< platform name, e.g. "Portable Computing Language"
+  std::string name;          ///< device name
+  std::string type;          ///< "GPU", "CPU", "accelerator" or "other"
+  std::string version;       ///< CL_DEVICE_VERSION
+  unsigned compute_units = 0;
+  size_t global_memory = 0;  ///< bytes
+  size_t max_work_group = 0;
+};
+
+/// Every device of every platform, in platform order. Throws DeviceError
+/// with the install hint when there is no OpenCL platform at all.
+std::vector<DeviceInfo> list_devices();
+
+/// The line shown when no OpenCL platform exists.
+extern const char* const kNoPlatformMessage;
+
+/// Picks a device: `spec` is a decimal index into list_devices() or a
+/// case-insensitive substring of "platform device" names; an empty spec
+/// falls back to $PFILL_DEVICE, then to the first GPU, then the first CPU,
+/// then the first device. Throws pfill::Error naming the spec if none matches.
+DeviceInfo choose_device(const std::string& spec = "");
+
+/// An opened device: context and one in-order queue. Non-copyable, movable.
+class Device {
+ public:
+  /// Opens the device choose_device(spec) names. With `profiling`, the queue
+  /// records kernel times (bench only: it may slow launches).
+  explicit Device(const std::string& spec = "", bool profiling = false);
+
+  const DeviceInfo& info() const { return info_; }
+  const cl::Context& context() const { return context_; }
+  const cl::Device& device() const { return device_; }
+  cl::CommandQueue& queue() { return queue_; }
+  bool profiling() const { return profiling_; }
+
+  /// A device buffer of `bytes` (at least 1); `what` names it in errors.
+  cl::Buffer make_buffer(size_t bytes, const std::string& what, cl_mem_flags flags = CL_MEM_READ_WRITE) const;
+
+  /// Blocks until every queued command is done.
+  void finish();
+
+ private:
+  DeviceInfo info_;
+  cl::Device device_;
+  cl::Context context_;
+  cl::CommandQueue queue_;
+  bool profiling_ = false;
+};
+
+}  // namespace pfill

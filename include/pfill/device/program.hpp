@@ -1,0 +1,73 @@
+/// @file program.hpp
+/// @brief OpenCL programs built once from the embedded kernels/*.cl with a
+/// prelude of #defines, and the single function every launch goes through.
+#pragma once
+#include <CL/opencl.hpp>
+
+#include <cstddef>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "pfill/device/device.hpp"
+#include "pfill/device/device_error.hpp"
+
+namespace pfill {
+
+/// A kernel with its name (for errors) and the work-group size it runs at.
+class Kernel {
+ public:
+  Kernel() = default;
+  Kernel(cl::Kernel kernel, std::string name, size_t work_group);
+
+  const std::string& name() const { return name_; }
+  size_t work_group() const { return work_group_; }  ///< a power of two the device accepts
+  cl::Kernel& handle() { return kernel_; }
+
+  /// Sets argument `index`; the error names the kernel and the argument.
+  template <typename T>
+  void set_arg(cl_uint index, const T& value) {
+    check_cl(kernel_.setArg(index, value), "clSetKernelArg", name_ + " argument " + std::to_string(index));
+  }
+  /// Sets arguments 0, 1, ... in order.
+  template <typename... Args>
+  void set_args(const Args&... args) {
+    cl_uint index = 0;
+    (set_arg(index++, args), ...);
+  }
+
+ private:
+  cl::Kernel kernel_;
+  std::string name_;
+  size_t work_group_ = 1;
+};
+
+/// A number of local memory bytes as a kernel argument (for set_arg).
+inline cl::LocalSpaceArg local_bytes(size_t bytes) { return cl::Local(bytes); }
+
+/// A program built from embedded kernel files. The source is the prelude
+/// (`#define NAME value` lines) followed by each file in order, so a file
+/// may use functions of the files before it.
+class Program {
+ public:
+  Program(Device& device, const std::vector<std::string>& files,
+          const std::map<std::string, std::string>& defines, const std::string& options = "");
+
+  /// The named kernel, with a work-group size: the largest power of two
+  /// <= min(preferred, the kernel's and the device's limits).
+  Kernel kernel(const std::string& name, size_t preferred_work_group = 128) const;
+
+  const std::string& source() const { return source_; }
+
+ private:
+  cl::Program program_;
+  std::string source_;
+  const Device* device_;
+};
+
+/// Enqueues `kernel` over `items` work-items (rounded up to whole
+/// work-groups; kernels check their index against their count). Never
+/// blocks. With `event`, the launch can be profiled. Errors name the kernel.
+void launch(Device& device, Kernel& kernel, size_t items, cl::Event* event = nullptr);
+
+}  // namespace pfill

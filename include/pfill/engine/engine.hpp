@@ -1,0 +1,106 @@
+/// @file engine.hpp
+/// @brief The OpenCL particle engine: owns all particle state on the device
+/// and advances it. The fill (birth, removal, stopping tests) drives it
+/// through this header only; it never sees OpenCL buffers or kernels.
+///
+/// Physics (kernels/physics.cl, kernels/engine.cl): Lennard-Jones pair
+/// forces with exponents (a, b) shifted to zero at the cutoff, inelastic
+/// contact impulses between overlapping spheres (restitution), a wall from
+/// a signed distance field (negative inside) that keeps every centre at
+/// least its radius inside and reflects outward motion (wall restitution),
+/// leapfrog integration with optional damping and a speed cap.
+///
+/// Cost model: run_steps(k) enqueues k single-launch steps and returns
+/// without waiting; per-step scalars stay on the device until
+/// read_history(). Births of one particle and removals are one tiny launch
+/// each; reads (history, particles, flags) block.
+///
+/// @note Not thread-safe; two engines may live side by side.
+#pragma once
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "pfill/engine/params.hpp"
+#include "pfill/engine/step_record.hpp"
+#include "pfill/grid.hpp"
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+class Device;
+
+/// One particle as the host sees it.
+struct Particle {
+  Vec3 position;
+  Vec3 velocity;   ///< on read-back: the half-step velocity of the last step
+  double radius = 0;
+  double mass = 0; ///< 0 on add: derived from the radius (particle_mass)
+};
+
+class Engine {
+ public:
+  /// Builds the kernels for `params` on `device` (which must outlive the
+  /// engine). Throws pfill::Error for a bad setting, DeviceError for OpenCL.
+  Engine(Device& device, const EngineParams& params);
+  ~Engine();
+  Engine(const Engine&) = delete;
+  Engine& operator=(const Engine&) = delete;
+
+  const EngineParams& params() const;
+  const EngineConstants& constants() const;
+
+  /// The wall: a signed distance grid (negative inside, dims >= 2 each).
+  /// Its box becomes the neighbour-grid domain. Uploaded once (blocking).
+  void set_field(const ScalarGrid& field);
+
+  /// Appends particles; returns the index of the first. Radii must be in
+  /// (0, max_radius]. One particle is one small launch (no blocking); more
+  /// are a blocking upload.
+  size_t add_particles(const std::vector<Particle>& particles);
+  size_t add_particle(const Particle& p) { return add_particles({p}); }
+
+  /// Removes particles by index. Each removal moves the current last
+  /// particle into the freed index (swap with last); indices are processed
+  /// from the largest down, so the other given indices stay valid. Indices
+  /// >= size() throw.
+  void remove_particles(std::vector<size_t> indices);
+
+  /// Enqueues k steps and returns at once (no blocking read). Blocks only
+  /// when more than history_capacity records are unread (they move to a
+  /// host-side backlog, returned by the next read_history).
+  void run_steps(size_t k);
+
+  /// The records of every step since the last call (blocking).
+  std::vector<StepRecord> read_history();
+
+  /// All particles (blocking): positions, velocities, radii, masses.
+  std::vector<Particle> read_particles();
+
+  /// Indices of particles flagged outside the field since the last
+  /// clear_flags() (a flag moves with its particle on removal).
+  std::vector<size_t> flagged_particles();
+  void clear_flags();
+
+  size_t size() const;          ///< particle count
+  uint64_t steps_done() const;  ///< steps enqueued since construction
+
+  /// Blocks until the device is idle.
+  void finish();
+
+  /// For tests: each particle's neighbour indices as the cell list finds
+  /// them (pairs with d^2 < max(rc^2, (r_i + r_j)^2)), unsorted. Blocking.
+  std::vector<std::vector<uint32_t>> neighbour_lists();
+
+  /// With a profiling Device: seconds spent in each kernel since the last
+  /// call (blocking); empty otherwise.
+  std::map<std::string, double> kernel_times();
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace pfill

@@ -1,0 +1,55 @@
+/// @file params.hpp
+/// @brief The physical settings of the particle engine (EngineParams, as a
+/// user gives them) and the constants derived from them (EngineConstants:
+/// sigma, cutoff, time step, caps), shared by the OpenCL engine and the C++
+/// reference so both run the same physics.
+#pragma once
+#include <cstddef>
+
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+/// What the user sets. Lengths are in mesh units; a particle of radius
+/// `radius` has mass 1 (mass scales with volume, (r / radius)^3).
+struct EngineParams {
+  double radius = 0.5;             ///< reference particle radius (> 0)
+  double max_radius = 0;           ///< largest radius a particle may have; 0: `radius`
+  double rest_distance = 0;        ///< centre distance at the potential's minimum; 0: 2 * radius (touching)
+  double eps = 1;                  ///< depth of the potential well (> 0)
+  double exponent_a = 12;          ///< repulsive exponent a (> b)
+  double exponent_b = 6;           ///< attractive exponent b (> 0)
+  double cutoff_sigma = 0;         ///< cutoff in units of sigma (e.g. 2.5); 0: purely repulsive (cutoff at the minimum)
+  double restitution = 0.5;        ///< particle-particle restitution in [0, 1]
+  double wall_restitution = 0.5;   ///< particle-wall restitution in [0, 1]
+  double damping = 0;              ///< velocity damping rate (1/time): u *= exp(-damping dt) a step
+  double dt = 0;                   ///< time step; 0: 0.005 tau, tau = sigma sqrt(m / eps)
+  double max_step_fraction = 0.05; ///< no particle moves more than this many sigma in one step
+  double force_cap = 0;            ///< largest pair force; 0: the force that gives a unit mass the top speed in one step
+  Box3 domain;                     ///< cell-grid box when no field is set (particles outside still work, slower)
+  size_t history_capacity = 4096;  ///< per-step records kept on the device between reads
+  size_t work_group = 128;         ///< preferred work-group size (a power of two; the device may lower it)
+};
+
+/// Everything derived from EngineParams (see derive_constants).
+struct EngineConstants {
+  double sigma = 0;          ///< rest_distance / (a/b)^(1/(a-b))
+  double cutoff = 0;         ///< rc in mesh units
+  double tau = 0;            ///< sigma sqrt(1 / eps): the potential's time scale for unit mass
+  double dt = 0;             ///< the time step
+  double max_speed = 0;      ///< max_step_fraction * sigma / dt: speeds are clamped to it
+  double force_cap = 0;      ///< largest pair force
+  double damping_factor = 1; ///< exp(-damping dt)
+  double cell_size = 0;      ///< smallest cell edge: max(cutoff, 2 max_radius)
+  double max_radius = 0;
+  unsigned cell_capacity = 0;  ///< particles a cell can list (more are dropped and counted as overflow)
+  int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
+};
+
+/// Checks `p` (throws pfill::Error naming the bad setting) and derives the constants.
+EngineConstants derive_constants(const EngineParams& p);
+
+/// Mass of a particle of radius r: (r / p.radius)^3.
+double particle_mass(const EngineParams& p, double r);
+
+}  // namespace pfill

@@ -1,0 +1,446 @@
+// The OpenCL particle engine: device buffers, program build, and the host
+// side of births, removals, steps and read-backs (see engine.hpp and the
+// top of kernels/engine.cl for the step's design).
+#include "pfill/engine/engine.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <sstream>
+
+#include "pfill/device/device.hpp"
+#include "pfill/device/program.hpp"
+#include "pfill/error.hpp"
+
+namespace pfill {
+
+namespace {
+
+constexpr size_t kRecord = 8;           // floats per history / partial record (engine.cl PF_RECORD)
+constexpr uint32_t kStampLimit = 1u << 24;  // stamps live in the top 24 bits of a cell's count word
+
+std::string flt(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << std::scientific << v << "f";
+  return s.str();
+}
+
+cl_float4 f4(double x, double y, double z, double w) {
+  cl_float4 v;
+  v.s[0] = static_cast<float>(x);
+  v.s[1] = static_cast<float>(y);
+  v.s[2] = static_cast<float>(z);
+  v.s[3] = static_cast<float>(w);
+  return v;
+}
+
+cl_int4 i4(int x, int y, int z, int w) {
+  cl_int4 v;
+  v.s[0] = x;
+  v.s[1] = y;
+  v.s[2] = z;
+  v.s[3] = w;
+  return v;
+}
+
+uint32_t as_uint(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, sizeof u);
+  return u;
+}
+
+}  // namespace
+
+struct Engine::Impl {
+  Device& device;
+  EngineParams params;
+  EngineConstants constants;
+  Program program;
+  Kernel k_step, k_insert, k_birth, k_move, k_finalize, k_neighbours;
+
+  size_t n = 0, capacity = 0;
+  int cur = 0;  // which half of X, V and the cells holds the current state
+  cl::Buffer X[2], V[2], flags;
+  // Cells: count words and slot lists, one per state half.
+  cl_float4 cell_origin{}, cell_inv{};
+  cl_int4 cell_dims{};
+  size_t cell_total = 0;
+  bool have_domain = false;
+  cl::Buffer counts[2], slots[2];
+  uint32_t stamp[2] = {0, 0};  // stamp under which cells[h] lists X[h]; 0: not built
+  uint32_t last_stamp = 0;
+  // Field.
+  cl::Buffer sdf;
+  cl_float4 sdf_origin{};
+  cl_int4 sdf_dims{};
+  // Per-step scalars.
+  cl::Buffer partials[2], history;
+  size_t partial_groups = 0;  // capacity of each partials buffer, in records
+  int partial_half = 0;       // the half the next step writes
+  size_t pending_groups = 0;  // >0: partials[1 - partial_half] hold an unreduced step
+  uint64_t steps = 0, history_read = 0;
+  std::vector<StepRecord> backlog;
+  std::vector<std::pair<std::string, cl::Event>> events;
+
+  Impl(Device& d, const EngineParams& p)
+      : device(d), params(p), constants(derive_constants(p)), program(d, {"physics.cl", "engine.cl"}, defines()) {
+    k_step = program.kernel("advance", params.work_group);
+    k_insert = program.kernel("insert_cells", params.work_group);
+    k_birth = program.kernel("birth_one", 1);
+    k_move = program.kernel("move_particle", 1);
+    k_finalize = program.kernel("finalize_history", params.work_group);
+    k_neighbours = program.kernel("list_neighbours", params.work_group);
+    history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
+    sdf = device.make_buffer(sizeof(float), "sdf (none)");
+    sdf_dims = i4(2, 2, 2, 0);
+    reserve(64);
+    if (!params.domain.empty()) set_domain(params.domain);
+  }
+
+  std::map<std::string, std::string> defines() const {
+    const EngineConstants& c = constants;
+    return {{"PF_SIGMA2", flt(c.sigma * c.sigma)},
+            {"PF_EPS", flt(params.eps)},
+            {"PF_EXP_A", flt(params.exponent_a)},
+            {"PF_EXP_B", flt(params.exponent_b)},
+            {"PF_EXP_A_HALF", std::to_string(c.a_half)},
+            {"PF_EXP_B_HALF", std::to_string(c.b_half)},
+            {"PF_RC2", flt(c.cutoff * c.cutoff)},
+            {"PF_FORCE_CAP", flt(c.force_cap)},
+            {"PF_D_MIN", flt(1e-3 * c.sigma)},
+            {"PF_RESTITUTION", flt(params.restitution)},
+            {"PF_WALL_RESTITUTION", flt(params.wall_restitution)},
+            {"PF_DT", flt(c.dt)},
+            {"PF_DAMP", flt(c.damping_factor)},
+            {"PF_VMAX", flt(c.max_speed)},
+            {"PF_CELL_CAP", std::to_string(c.cell_capacity) + "u"},
+            {"PF_WALL_ITERATIONS", "2"}};
+  }
+
+  void run(Kernel& k, size_t items) {
+    if (device.profiling()) {
+      events.emplace_back(k.name(), cl::Event());
+      launch(device, k, items, &events.back().second);
+    } else {
+      launch(device, k, items);
+    }
+  }
+
+  size_t groups_for(size_t count) const {
+    const size_t wg = k_step.work_group();
+    return std::max<size_t>(1, (count + wg - 1) / wg);
+  }
+
+  // Room for `want` particles: doubling, state copied on the device.
+  void reserve(size_t want) {
+    if (want <= capacity) return;
+    size_t cap = std::max<size_t>(capacity, 64);
+    while (cap < want) cap *= 2;
+    reduce_pending();  // partials are reallocated below
+    cl::Buffer nx[2], nv[2];
+    for (int h = 0; h < 2; ++h) {
+      nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
+      nv[h] = device.make_buffer(cap * sizeof(cl_float4), "velocities");
+    }
+    cl::Buffer nf = device.make_buffer(cap * sizeof(cl_uint), "flags");
+    if (n > 0) {
+      auto& q = device.queue();
+      check_cl(q.enqueueCopyBuffer(X[cur], nx[cur], 0, 0, n * sizeof(cl_float4)), "clEnqueueCopyBuffer", "positions");
+      check_cl(q.enqueueCopyBuffer(V[cur], nv[cur], 0, 0, n * sizeof(cl_float4)), "clEnqueueCopyBuffer", "velocities");
+      check_cl(q.enqueueCopyBuffer(flags, nf, 0, 0, n * sizeof(cl_uint)), "clEnqueueCopyBuffer", "flags");
+    }
+    for (int h = 0; h < 2; ++h) {
+      X[h] = nx[h];
+      V[h] = nv[h];
+    }
+    flags = nf;
+    capacity = cap;
+    partial_groups = groups_for(cap);
+    for (auto& p : partials) p = device.make_buffer(partial_groups * kRecord * sizeof(float), "step partials");
+  }
+
+  // The neighbour grid over `box`: cells of edge exactly cell_size (the
+  // grid may reach a little past the box; particles outside clamp in).
+  void set_domain(const Box3& box) {
+    const double cs = constants.cell_size;
+    int dims[3];
+    double total = 1;
+    for (int a = 0; a < 3; ++a) {
+      dims[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
+      total *= dims[a];
+    }
+    if (total * constants.cell_capacity > 1.5e9)
+      throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
+                  " cells; use a larger radius or a smaller domain");
+    cell_origin = f4(box.lo.x, box.lo.y, box.lo.z, 0);
+    cell_inv = f4(1 / cs, 1 / cs, 1 / cs, 0);
+    cell_dims = i4(dims[0], dims[1], dims[2], 0);
+    cell_total = static_cast<size_t>(total);
+    for (int h = 0; h < 2; ++h) {
+      counts[h] = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
+      slots[h] = device.make_buffer(cell_total * constants.cell_capacity * sizeof(cl_uint), "cell slots");
+      check_cl(device.queue().enqueueFillBuffer(counts[h], cl_uint(0), 0, cell_total * sizeof(cl_uint)),
+               "clEnqueueFillBuffer", "cell counts");
+      stamp[h] = 0;
+    }
+    last_stamp = 0;
+    have_domain = true;
+  }
+
+  uint32_t new_stamp() { return ++last_stamp; }
+
+  // Lists X[cur] in cells[cur] under a fresh stamp, when not already done.
+  void ensure_cells() {
+    if (!have_domain)
+      throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
+    if (last_stamp + 4 >= kStampLimit) {  // wrap: clear both count buffers and start again
+      for (auto& c : counts)
+        check_cl(device.queue().enqueueFillBuffer(c, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
+                 "clEnqueueFillBuffer", "cell counts");
+      last_stamp = 0;
+      stamp[0] = stamp[1] = 0;
+    }
+    if (stamp[cur] != 0) return;
+    stamp[cur] = new_stamp();
+    k_insert.set_args(X[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
+                      cl_uint(0), cl_uint(n));
+    run(k_insert, n);
+  }
+
+  // Reduces the last step's partials into its history slot, if not yet done.
+  void reduce_pending() {
+    if (pending_groups == 0) return;
+    const size_t wg = k_finalize.work_group();
+    k_finalize.set_args(partials[1 - partial_half], cl_uint(pending_groups), history,
+                        cl_uint((steps - 1) % params.history_capacity), local_bytes(wg * sizeof(cl_float4)),
+                        local_bytes(wg * sizeof(cl_uint4)));
+    run(k_finalize, wg);
+    pending_groups = 0;
+  }
+
+  void step() {
+    if (steps - history_read >= params.history_capacity) drain_history();
+    const int nxt = 1 - cur;
+    const uint32_t stamp_out = new_stamp();
+    const size_t wg = k_step.work_group();
+    const cl_uint prev_slot = steps > 0 ? cl_uint((steps - 1) % params.history_capacity) : 0;
+    k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts[cur], slots[cur], cl_uint(stamp[cur]), counts[nxt],
+                    slots[nxt], cl_uint(stamp_out), cell_origin, cell_inv, cell_dims, sdf, sdf_origin, sdf_dims, flags,
+                    cl_uint(n), partials[partial_half], partials[1 - partial_half], cl_uint(pending_groups), history,
+                    prev_slot, local_bytes(wg * sizeof(cl_float4)), local_bytes(wg * sizeof(cl_uint4)));
+    run(k_step, n);
+    pending_groups = groups_for(n);
+    partial_half = 1 - partial_half;
+    stamp[nxt] = stamp_out;
+    cur = nxt;
+    ++steps;
+  }
+
+  // Moves every unread record to the backlog (blocking).
+  void drain_history() {
+    reduce_pending();
+    const size_t count = steps - history_read, cap = params.history_capacity;
+    if (count == 0) return;
+    std::vector<float> raw(cap * kRecord);
+    check_cl(device.queue().enqueueReadBuffer(history, CL_TRUE, 0, raw.size() * sizeof(float), raw.data()),
+             "clEnqueueReadBuffer", "history");
+    for (uint64_t s = history_read; s < steps; ++s) {
+      const float* r = &raw[(s % cap) * kRecord];
+      StepRecord rec;
+      rec.step = s;
+      rec.kinetic_energy = r[0];
+      rec.max_speed = r[1];
+      rec.max_displacement = r[2];
+      rec.colliding_pairs = as_uint(r[4]);
+      rec.flagged = as_uint(r[5]);
+      rec.cell_overflow = as_uint(r[6]);
+      rec.particles = as_uint(r[7]);
+      backlog.push_back(rec);
+    }
+    history_read = steps;
+  }
+};
+
+Engine::Engine(Device& device, const EngineParams& params) : impl_(std::make_unique<Impl>(device, params)) {}
+Engine::~Engine() = default;
+
+const EngineParams& Engine::params() const { return impl_->params; }
+const EngineConstants& Engine::constants() const { return impl_->constants; }
+size_t Engine::size() const { return impl_->n; }
+uint64_t Engine::steps_done() const { return impl_->steps; }
+
+void Engine::set_field(const ScalarGrid& field) {
+  Impl& m = *impl_;
+  if (field.dims[0] < 2 || field.dims[1] < 2 || field.dims[2] < 2)
+    throw Error("engine: the distance field needs at least 2 samples along each axis");
+  if (field.values.size() != static_cast<size_t>(field.dims[0]) * field.dims[1] * field.dims[2])
+    throw Error("engine: the distance field has " + std::to_string(field.values.size()) +
+                " values for its dimensions; rebuild it");
+  if (!(field.spacing > 0)) throw Error("engine: the distance field's spacing must be > 0");
+  m.sdf = m.device.make_buffer(field.bytes(), "sdf");
+  check_cl(m.device.queue().enqueueWriteBuffer(m.sdf, CL_TRUE, 0, field.bytes(), field.values.data()),
+           "clEnqueueWriteBuffer", "sdf");
+  m.sdf_origin = f4(field.origin.x, field.origin.y, field.origin.z, 1 / field.spacing);
+  m.sdf_dims = i4(field.dims[0], field.dims[1], field.dims[2], 1);
+  Box3 box;
+  box.add(field.origin);
+  box.add(field.upper());
+  m.set_domain(box);
+}
+
+size_t Engine::add_particles(const std::vector<Particle>& particles) {
+  Impl& m = *impl_;
+  const size_t first = m.n;
+  if (particles.empty()) return first;
+  std::vector<cl_float4> xs, vs;
+  for (const Particle& p : particles) {
+    if (!(p.radius > 0 && p.radius <= m.constants.max_radius * (1 + 1e-9)))
+      throw Error("engine: particle radius " + std::to_string(p.radius) + " is outside (0, max_radius = " +
+                  std::to_string(m.constants.max_radius) + "]; raise EngineParams::max_radius");
+    if (!is_finite(p.position) || !is_finite(p.velocity) || p.mass < 0 || !std::isfinite(p.mass))
+      throw Error("engine: a particle to add has a non-finite position or velocity, or a bad mass");
+    const double mass = p.mass > 0 ? p.mass : particle_mass(m.params, p.radius);
+    xs.push_back(f4(p.position.x, p.position.y, p.position.z, p.radius));
+    vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
+  }
+  m.reserve(first + particles.size());
+  if (particles.size() == 1) {
+    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]),
+                       m.cell_origin, m.cell_inv, m.cell_dims, cl_uint(first), xs[0], vs[0]);
+    if (!m.have_domain) m.k_birth.set_arg(5, cl_uint(0));  // no cells yet: nothing to list it in
+    if (!m.have_domain) {
+      m.k_birth.set_arg(3, m.flags);  // placeholders for the absent cell buffers (unused with stamp 0)
+      m.k_birth.set_arg(4, m.flags);
+    }
+    m.run(m.k_birth, 1);
+    m.n += 1;
+    return first;
+  }
+  auto& q = m.device.queue();
+  const std::vector<cl_uint> zeros(particles.size(), 0);
+  check_cl(q.enqueueWriteBuffer(m.X[m.cur], CL_TRUE, first * sizeof(cl_float4), xs.size() * sizeof(cl_float4),
+                                xs.data()), "clEnqueueWriteBuffer", "positions");
+  check_cl(q.enqueueWriteBuffer(m.V[m.cur], CL_TRUE, first * sizeof(cl_float4), vs.size() * sizeof(cl_float4),
+                                vs.data()), "clEnqueueWriteBuffer", "velocities");
+  check_cl(q.enqueueWriteBuffer(m.flags, CL_TRUE, first * sizeof(cl_uint), zeros.size() * sizeof(cl_uint),
+                                zeros.data()), "clEnqueueWriteBuffer", "flags");
+  m.n += particles.size();
+  if (m.have_domain && m.stamp[m.cur] != 0) {
+    m.k_insert.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
+                        m.cell_inv, m.cell_dims, cl_uint(first), cl_uint(particles.size()));
+    m.run(m.k_insert, particles.size());
+  }
+  return first;
+}
+
+void Engine::remove_particles(std::vector<size_t> indices) {
+  Impl& m = *impl_;
+  std::sort(indices.begin(), indices.end(), std::greater<size_t>());
+  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  for (size_t idx : indices)
+    if (idx >= m.n)
+      throw Error("engine: cannot remove particle " + std::to_string(idx) + " of " + std::to_string(m.n));
+  for (size_t idx : indices) {
+    const size_t last = m.n - 1;
+    if (idx != last) {
+      m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, cl_uint(last), cl_uint(idx));
+      m.run(m.k_move, 1);
+    }
+    m.n -= 1;
+  }
+  if (!indices.empty()) m.stamp[m.cur] = 0;  // the moved particles sit in stale cells: rebuild before the next step
+}
+
+void Engine::run_steps(size_t k) {
+  Impl& m = *impl_;
+  for (size_t s = 0; s < k; ++s) {
+    m.ensure_cells();
+    m.step();
+  }
+}
+
+std::vector<StepRecord> Engine::read_history() {
+  impl_->drain_history();
+  return std::exchange(impl_->backlog, {});
+}
+
+std::vector<Particle> Engine::read_particles() {
+  Impl& m = *impl_;
+  std::vector<cl_float4> xs(m.n), vs(m.n);
+  if (m.n > 0) {
+    check_cl(m.device.queue().enqueueReadBuffer(m.X[m.cur], CL_TRUE, 0, m.n * sizeof(cl_float4), xs.data()),
+             "clEnqueueReadBuffer", "positions");
+    check_cl(m.device.queue().enqueueReadBuffer(m.V[m.cur], CL_TRUE, 0, m.n * sizeof(cl_float4), vs.data()),
+             "clEnqueueReadBuffer", "velocities");
+  }
+  std::vector<Particle> out(m.n);
+  for (size_t i = 0; i < m.n; ++i) {
+    out[i].position = {xs[i].s[0], xs[i].s[1], xs[i].s[2]};
+    out[i].radius = xs[i].s[3];
+    out[i].velocity = {vs[i].s[0], vs[i].s[1], vs[i].s[2]};
+    out[i].mass = 1.0 / vs[i].s[3];
+  }
+  return out;
+}
+
+std::vector<size_t> Engine::flagged_particles() {
+  Impl& m = *impl_;
+  std::vector<cl_uint> f(m.n);
+  if (m.n > 0)
+    check_cl(m.device.queue().enqueueReadBuffer(m.flags, CL_TRUE, 0, m.n * sizeof(cl_uint), f.data()),
+             "clEnqueueReadBuffer", "flags");
+  std::vector<size_t> out;
+  for (size_t i = 0; i < m.n; ++i)
+    if (f[i]) out.push_back(i);
+  return out;
+}
+
+void Engine::clear_flags() {
+  Impl& m = *impl_;
+  check_cl(m.device.queue().enqueueFillBuffer(m.flags, cl_uint(0), 0, m.capacity * sizeof(cl_uint)),
+           "clEnqueueFillBuffer", "flags");
+}
+
+void Engine::finish() { impl_->device.finish(); }
+
+std::vector<std::vector<uint32_t>> Engine::neighbour_lists() {
+  Impl& m = *impl_;
+  m.ensure_cells();
+  const cl_uint max_out = 256;
+  cl::Buffer counts = m.device.make_buffer(std::max<size_t>(m.n, 1) * sizeof(cl_uint), "neighbour counts");
+  cl::Buffer lists = m.device.make_buffer(std::max<size_t>(m.n, 1) * max_out * sizeof(cl_uint), "neighbour lists");
+  m.k_neighbours.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
+                          m.cell_inv, m.cell_dims, cl_uint(m.n), counts, lists, max_out);
+  m.run(m.k_neighbours, m.n);
+  std::vector<cl_uint> c(m.n), l(m.n * max_out);
+  if (m.n > 0) {
+    check_cl(m.device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, c.size() * sizeof(cl_uint), c.data()),
+             "clEnqueueReadBuffer", "neighbour counts");
+    check_cl(m.device.queue().enqueueReadBuffer(lists, CL_TRUE, 0, l.size() * sizeof(cl_uint), l.data()),
+             "clEnqueueReadBuffer", "neighbour lists");
+  }
+  std::vector<std::vector<uint32_t>> out(m.n);
+  for (size_t i = 0; i < m.n; ++i) {
+    if (c[i] > max_out) throw Error("engine: particle " + std::to_string(i) + " has more than 256 neighbours");
+    out[i].assign(l.begin() + i * max_out, l.begin() + i * max_out + c[i]);
+  }
+  return out;
+}
+
+std::map<std::string, double> Engine::kernel_times() {
+  Impl& m = *impl_;
+  std::map<std::string, double> out;
+  if (!m.device.profiling()) return out;
+  m.device.finish();
+  for (auto& [name, ev] : m.events) {
+    cl_ulong start = 0, end = 0;
+    check_cl(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &start), "clGetEventProfilingInfo", name);
+    check_cl(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo", name);
+    out[name] += static_cast<double>(end - start) * 1e-9;
+  }
+  m.events.clear();
+  return out;
+}
+
+}  // namespace pfill

@@ -1,0 +1,66 @@
+// Checks engine settings and derives sigma, cutoff, time step and caps.
+#include "pfill/engine/params.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "pfill/error.hpp"
+
+namespace pfill {
+
+namespace {
+
+void require(bool ok, const std::string& what) {
+  if (!ok) throw Error("engine settings: " + what);
+}
+
+// e/2 when e is an even integer up to 64 (products beat pow), else 0.
+int even_half(double e) {
+  const double h = e / 2;
+  return (h == std::floor(h) && h >= 1 && h <= 32) ? static_cast<int>(h) : 0;
+}
+
+}  // namespace
+
+EngineConstants derive_constants(const EngineParams& p) {
+  require(std::isfinite(p.radius) && p.radius > 0, "radius must be > 0");
+  require(p.max_radius == 0 || p.max_radius >= p.radius, "max_radius must be 0 or >= radius");
+  require(p.rest_distance >= 0, "rest_distance must be >= 0 (0: twice the radius)");
+  require(std::isfinite(p.eps) && p.eps > 0, "eps must be > 0");
+  require(p.exponent_b > 0 && p.exponent_a > p.exponent_b, "exponents need a > b > 0 (default 12, 6)");
+  require(p.cutoff_sigma == 0 || p.cutoff_sigma > 1, "cutoff_sigma must be 0 (purely repulsive) or > 1");
+  require(p.restitution >= 0 && p.restitution <= 1, "restitution must be in [0, 1]");
+  require(p.wall_restitution >= 0 && p.wall_restitution <= 1, "wall_restitution must be in [0, 1]");
+  require(p.damping >= 0, "damping must be >= 0");
+  require(p.dt >= 0, "dt must be >= 0 (0: derived from the potential)");
+  require(p.max_step_fraction > 0 && p.max_step_fraction <= 0.5, "max_step_fraction must be in (0, 0.5]");
+  require(p.force_cap >= 0, "force_cap must be >= 0 (0: derived)");
+  require(p.history_capacity >= 2, "history_capacity must be >= 2");
+  require(p.work_group >= 1, "work_group must be >= 1");
+
+  EngineConstants c;
+  const double a = p.exponent_a, b = p.exponent_b;
+  const double rest = p.rest_distance > 0 ? p.rest_distance : 2 * p.radius;
+  c.sigma = rest / std::pow(a / b, 1 / (a - b));
+  c.cutoff = p.cutoff_sigma > 0 ? p.cutoff_sigma * c.sigma : rest;
+  c.tau = c.sigma * std::sqrt(1 / p.eps);
+  c.dt = p.dt > 0 ? p.dt : 0.005 * c.tau;
+  c.max_speed = p.max_step_fraction * c.sigma / c.dt;
+  c.force_cap = p.force_cap > 0 ? p.force_cap : c.max_speed / c.dt;
+  c.damping_factor = std::exp(-p.damping * c.dt);
+  c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
+  c.cell_size = std::max(c.cutoff, 2 * c.max_radius);
+  // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
+  const double s_min = 0.8 * std::min(2 * p.radius, rest);
+  const double dense = std::pow(c.cell_size, 3) * 0.74 / (M_PI / 6 * std::pow(s_min, 3));
+  c.cell_capacity = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 252.0));
+  c.cell_capacity = (c.cell_capacity + 3) / 4 * 4;
+  c.a_half = even_half(a);
+  c.b_half = even_half(b);
+  return c;
+}
+
+double particle_mass(const EngineParams& p, double r) { return std::pow(r / p.radius, 3); }
+
+}  // namespace pfill

@@ -1,0 +1,154 @@
+// The double-precision oracle of the engine step: the same formulas
+// (kernels/physics.cl, included below with PF_REAL = double) and the same
+// order of operations as kernels/engine.cl, with brute-force pairs.
+#include "pfill/engine/reference.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <math.h>
+
+#include "pfill/error.hpp"
+
+namespace pfill {
+namespace physics {
+// What physics.cl needs from OpenCL C, in double precision.
+inline int min(int a, int b) { return a < b ? a : b; }
+using ::floor;
+using ::fmax;
+using ::fmin;
+using ::pow;
+using ::sqrt;
+#define PF_REAL double
+#define PF_FN inline
+#define PF_GLOBAL
+#include "../../kernels/physics.cl"
+#undef PF_REAL
+#undef PF_FN
+#undef PF_GLOBAL
+}  // namespace physics
+
+namespace {
+
+constexpr int kWallIterations = 2;  // as PF_WALL_ITERATIONS in engine.cl
+
+double sample(const ScalarGrid& f, const Vec3& p, Vec3& g) {
+  double gg[3];
+  const double v = physics::pf_sdf_sample(f.values.data(), f.dims[0], f.dims[1], f.dims[2], f.origin.x, f.origin.y,
+                                          f.origin.z, 1 / f.spacing, p.x, p.y, p.z, gg);
+  g = {gg[0], gg[1], gg[2]};
+  return v;
+}
+
+}  // namespace
+
+ReferenceEngine::ReferenceEngine(const EngineParams& params) : params_(params), constants_(derive_constants(params)) {}
+
+void ReferenceEngine::set_field(const ScalarGrid& field) {
+  field_ = field;
+  has_field_ = true;
+}
+
+void ReferenceEngine::add_particles(const std::vector<Particle>& particles) {
+  for (Particle p : particles) {
+    if (p.mass == 0) p.mass = particle_mass(params_, p.radius);
+    particles_.push_back(p);
+    flags_.push_back(false);
+  }
+}
+
+StepRecord ReferenceEngine::step() {
+  const EngineConstants& c = constants_;
+  const double sigma2 = c.sigma * c.sigma, rc2 = c.cutoff * c.cutoff, dmin = 1e-3f * c.sigma;
+  StepRecord rec;
+  rec.step = steps_++;
+  rec.particles = static_cast<uint32_t>(particles_.size());
+  std::vector<Particle> next = particles_;
+  for (size_t i = 0; i < particles_.size(); ++i) {
+    const Particle& pi = particles_[i];
+    const double inv_mi = 1 / pi.mass;
+    Vec3 force, impulse;
+    for (size_t j = 0; j < particles_.size(); ++j) {
+      if (j == i) continue;
+      const Particle& pj = particles_[j];
+      Vec3 d = pi.position - pj.position;
+      double d2 = dot(d, d);
+      const double rs = pi.radius + pj.radius;
+      if (d2 >= std::max(rc2, rs * rs)) continue;
+      if (d2 < dmin * dmin) {
+        d = {i < j ? -dmin : dmin, 0, 0};
+        d2 = dmin * dmin;
+      }
+      force += physics::pf_lj_force_scale(d2, sigma2, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
+                                          c.b_half, rc2, c.force_cap) * d;
+      if (d2 < rs * rs) {
+        const Vec3 n = d / std::sqrt(d2);
+        impulse += physics::pf_contact_impulse(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass,
+                                               params_.restitution) * n;
+        if (j > i) ++rec.colliding_pairs;
+      }
+    }
+    Vec3 u = (pi.velocity + (c.dt * inv_mi) * force + inv_mi * impulse) * c.damping_factor;
+    const double speed = length(u);
+    if (speed > c.max_speed) u *= c.max_speed / speed;
+    Vec3 x = pi.position + c.dt * u;
+    if (has_field_) {
+      Vec3 g;
+      double phi = sample(field_, x, g);
+      const Vec3 gp = (x - field_.origin) / field_.spacing;
+      const bool outside_box = gp.x < 0 || gp.y < 0 || gp.z < 0 || gp.x > field_.dims[0] - 1 ||
+                               gp.y > field_.dims[1] - 1 || gp.z > field_.dims[2] - 1;
+      if (phi > 0 || outside_box) {
+        ++rec.flagged;
+        flags_[i] = true;
+      }
+      if (phi > -pi.radius) {
+        for (int it = 0; it < kWallIterations && phi > -pi.radius; ++it) {
+          const double gl = length(g);
+          if (!(gl > 1e-20)) break;
+          x -= ((phi + pi.radius) / gl) * g;
+          phi = sample(field_, x, g);
+        }
+        const double gl = length(g);
+        if (gl > 1e-20) {
+          const Vec3 n = g / gl;
+          u += physics::pf_wall_velocity_change(dot(u, n), params_.wall_restitution) * n;
+        }
+      }
+    }
+    next[i].position = x;
+    next[i].velocity = u;
+    rec.kinetic_energy += 0.5 * pi.mass * dot(u, u);
+    rec.max_speed = std::max(rec.max_speed, length(u));
+    rec.max_displacement = std::max(rec.max_displacement, length(x - pi.position));
+  }
+  particles_ = std::move(next);
+  return rec;
+}
+
+double ReferenceEngine::potential_energy() const {
+  const EngineConstants& c = constants_;
+  double e = 0;
+  for (size_t i = 0; i < particles_.size(); ++i)
+    for (size_t j = i + 1; j < particles_.size(); ++j) {
+      const Vec3 d = particles_[i].position - particles_[j].position;
+      const double d2 = std::max(dot(d, d), 1e-300);
+      e += physics::pf_lj_energy(d2, c.sigma * c.sigma, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
+                                 c.b_half, c.cutoff * c.cutoff);
+    }
+  return e;
+}
+
+std::vector<std::vector<uint32_t>> ReferenceEngine::neighbour_lists() const {
+  const double rc2 = constants_.cutoff * constants_.cutoff;
+  std::vector<std::vector<uint32_t>> out(particles_.size());
+  for (size_t i = 0; i < particles_.size(); ++i)
+    for (size_t j = 0; j < particles_.size(); ++j) {
+      if (i == j) continue;
+      const Vec3 d = particles_[i].position - particles_[j].position;
+      const double rs = particles_[i].radius + particles_[j].radius;
+      if (dot(d, d) < std::max(rc2, rs * rs)) out[i].push_back(static_cast<uint32_t>(j));
+    }
+  return out;
+}
+
+}  // namespace pfill

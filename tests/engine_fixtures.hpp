@@ -1,0 +1,77 @@
+// Shared by the engine and physics tests: analytic signed distance grids
+// (sphere, box) and random particle systems with fixed seeds.
+#pragma once
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include "pfill/engine/engine.hpp"
+#include "pfill/grid.hpp"
+
+namespace pfill::test {
+
+// Exact signed distance of a sphere (centre 0, radius R) and of a box (centre 0, half-extents h).
+inline double sphere_distance(const Vec3& p, double R) { return length(p) - R; }
+inline double box_distance(const Vec3& p, const Vec3& h) {
+  const Vec3 q{std::fabs(p.x) - h.x, std::fabs(p.y) - h.y, std::fabs(p.z) - h.z};
+  const Vec3 outside{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
+  return length(outside) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
+}
+
+// A grid over [-extent, extent]^3 (plus two cells) sampling `distance`.
+template <typename F>
+ScalarGrid make_grid(double extent, double spacing, F distance) {
+  ScalarGrid g;
+  const int n = static_cast<int>(std::ceil(2 * extent / spacing)) + 5;
+  g.spacing = spacing;
+  g.origin = Vec3(-1, -1, -1) * (extent + 2 * spacing);
+  g.dims = {n, n, n};
+  g.values.resize(static_cast<size_t>(n) * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) g.values[g.index(i, j, k)] = static_cast<float>(distance(g.point(i, j, k)));
+  return g;
+}
+
+inline ScalarGrid sphere_grid(double R, double spacing) {
+  return make_grid(R, spacing, [R](const Vec3& p) { return sphere_distance(p, R); });
+}
+inline ScalarGrid box_grid(const Vec3& h, double spacing) {
+  const double e = std::max(h.x, std::max(h.y, h.z));
+  return make_grid(e, spacing, [h](const Vec3& p) { return box_distance(p, h); });
+}
+
+// n particles of radius r, centres inside `inside(p) <= -r`, pairwise at
+// least min_gap * 2r apart (rejection sampling), velocities uniform in
+// [-speed, speed]^3. Deterministic for a seed.
+template <typename Inside>
+std::vector<Particle> random_particles(size_t n, double r, double bound, double min_gap, double speed, unsigned seed,
+                                       Inside inside) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> pos(-bound, bound), vel(-speed, speed);
+  std::vector<Particle> out;
+  size_t tries = 0;
+  while (out.size() < n && tries++ < 1000000) {
+    const Vec3 p{pos(rng), pos(rng), pos(rng)};
+    if (inside(p) > -r) continue;
+    bool ok = true;
+    for (const Particle& q : out)
+      if (length(q.position - p) < min_gap * 2 * r) { ok = false; break; }
+    if (!ok) continue;
+    Particle part;
+    part.position = p;
+    part.velocity = {vel(rng), vel(rng), vel(rng)};
+    part.radius = r;
+    out.push_back(part);
+  }
+  return out;
+}
+
+inline Vec3 total_momentum(const std::vector<Particle>& ps) {
+  Vec3 m;
+  for (const Particle& p : ps) m += p.mass * p.velocity;
+  return m;
+}
+
+}  // namespace pfill::test
