@@ -130,6 +130,17 @@ TEST_CASE("the shell is faint and translucent, and the cut clips it") {
   const Image cut = render(inside, &shell, options);
   CHECK(cut.at(40, 40) != background);
   CHECK(foreground_pixels(cut, options) > foreground_pixels(without_same_camera, options));
+  // Beside the particle, the ray now crosses one shell layer instead of two: a fainter tint.
+  options.cut.reset();
+  const Image uncut = render(inside, &shell, options);
+  auto tint = [&](const Image& image) {
+    int sum = 0;
+    for (int k = 0; k < 3; ++k) sum += std::abs(int(image.at(40 - 28, 40)[k]) - int(background[k]));
+    return sum;
+  };
+  CHECK(tint(cut) > 0);
+  CHECK(tint(cut) < tint(uncut));
+  options.cut = parse_cut("z=0");
   options.cut = parse_cut("z=-2");  // everything cut away
   CHECK(foreground_pixels(render(inside, &shell, options), options) == 0);
 }
@@ -177,7 +188,7 @@ TEST_CASE("every view frames the whole scene, tightly") {
   }
 }
 
-TEST_CASE("write_png: decodes to the stated size; an unwritable path gives a clear error and no file") {
+TEST_CASE("write_png decodes to the stated size, and an unwritable path gives a clear error and no file") {
   test::ScratchDir dir("png");
   RenderOptions options = small_options(50, 30);
   const Image image = render(one_sphere(Vec3(0, 0, 0), 1), nullptr, options);

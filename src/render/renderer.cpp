@@ -194,15 +194,17 @@ Image render(const ParticleSet& particles, const Mesh* shell, const RenderOption
     throw Error("render: cut axis must be 0 (x), 1 (y) or 2 (z)");
 
   const Box3 bounds = scene_bounds(particles, shell);
-  const double aspect = static_cast<double>(options.width) / options.height;
-  const Camera camera = options.camera ? *options.camera : frame_camera(bounds, options.view, aspect);
-
   Scene s;
+  Box3 framed = bounds;  // what the automatic camera shows: the part the cut keeps
   if (options.cut) {
     s.cut_axis = options.cut->axis;
     s.cut_value = options.cut->value ? *options.cut->value
                                      : (bounds.empty() ? 0.0 : bounds.centre()[options.cut->axis]);
+    if (!framed.empty() && framed.lo[s.cut_axis] < s.cut_value)
+      framed.hi[s.cut_axis] = std::min(framed.hi[s.cut_axis], s.cut_value);
   }
+  const double aspect = static_cast<double>(options.width) / options.height;
+  const Camera camera = options.camera ? *options.camera : frame_camera(framed, options.view, aspect);
 
   // Spheres that survive the cut, and their colours.
   std::vector<std::array<float, 4>> spheres;
