@@ -3,6 +3,8 @@
 // Khronos validator on our GLB files (where node and the validator exist).
 #include <doctest/doctest.h>
 #include <tiny_gltf.h>
+#include <assimp/Importer.hpp>
+#include <assimp/scene.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -138,6 +140,24 @@ TEST_CASE("PLY round trip: binary little-endian, with and without colours and ve
   options.velocities = false;
   write_ply(set, dir / "q.ply", options);
   CHECK_FALSE(read_ply(dir / "q.ply").has_velocities());
+}
+
+TEST_CASE("our binary PLY is read by an independent reader (assimp) as the same points") {
+  ScratchDir dir("plyassimp");
+  const ParticleSet set = test::random_particles(100, 9, true, true);
+  write_ply(set, dir / "p.ply");
+  Assimp::Importer importer;
+  const aiScene* scene = importer.ReadFile((dir / "p.ply").string(), 0);
+  REQUIRE_MESSAGE(scene != nullptr, importer.GetErrorString());
+  REQUIRE(scene->mNumMeshes == 1);
+  const aiMesh* mesh = scene->mMeshes[0];
+  REQUIRE(mesh->mNumVertices == 100);
+  for (unsigned i = 0; i < 100; ++i) {
+    CHECK(mesh->mVertices[i].x == float(set.positions[i].x));
+    CHECK(mesh->mVertices[i].z == float(set.positions[i].z));
+  }
+  if (mesh->HasVertexColors(0))
+    CHECK(mesh->mColors[0][5].r == doctest::Approx(set.colours[5][0] / 255.0).epsilon(1e-3));
 }
 
 TEST_CASE("PLY reader: ascii, doubles, extra properties and elements, big-endian, default radius") {
