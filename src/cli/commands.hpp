@@ -1,5 +1,15 @@
-// The subcommands of `pfill`, each added to the CLI11 app by one function.
+// The subcommands of the `pfill` program; each src/cli/*_command.cpp adds one
+// to the CLI11 app.
 #pragma once
 #include <CLI/CLI.hpp>
 
+namespace pfill::cli {
+
+/// `pfill info MESH|--builtin NAME [--json]`
+void add_info_command(CLI::App& app);
+/// `pfill devices [--device SPEC]`
 void add_devices_command(CLI::App& app);
+/// `pfill render PARTICLES|FRAMES_DIR -o OUT [--mesh MESH] [--view V] [--size WxH] [--cut x|y|z[=v]]`
+void add_render_command(CLI::App& app);
+
+}  // namespace pfill::cli

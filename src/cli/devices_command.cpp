@@ -1,9 +1,11 @@
 // `pfill devices`: lists the OpenCL devices and marks the one a run would use.
 #include <iostream>
 
-#include "commands.hpp"
+#include "cli/commands.hpp"
 #include "pfill/device/device.hpp"
 #include "pfill/error.hpp"
+
+namespace pfill::cli {
 
 void add_devices_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("devices", "List OpenCL devices (choose one with --device or PFILL_DEVICE)");
@@ -20,3 +22,5 @@ void add_devices_command(CLI::App& app) {
     std::cout << "(* = used by default; set --device or PFILL_DEVICE to choose by index or name)\n";
   });
 }
+
+}  // namespace pfill::cli

@@ -1,0 +1,52 @@
+/// @file atomic_file.hpp
+/// @brief Writing a file so that readers see either the old file or the
+/// complete new one, never a partial one: the bytes go to a temporary name in
+/// the same folder, are flushed to disk, and only then renamed over the
+/// target. Every pfill writer (particles, PNG) goes through this.
+#pragma once
+#include <cstddef>
+#include <cstdio>
+#include <filesystem>
+#include <functional>
+#include <string>
+
+namespace pfill {
+
+class AtomicFile {
+ public:
+  /// Creates the temporary file beside `target`; throws pfill::Error naming
+  /// the target and the reason (folder missing, not writable, target is a
+  /// folder).
+  explicit AtomicFile(std::filesystem::path target);
+  /// Removes the temporary file unless commit() succeeded; never throws.
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  /// Appends bytes; throws pfill::Error when the disk refuses them.
+  void write(const void* data, size_t bytes);
+  void write(const std::string& text) { write(text.data(), text.size()); }
+
+  /// Flushes, syncs, closes and renames the temporary file over the target.
+  void commit();
+
+  const std::filesystem::path& target() const { return target_; }
+  const std::filesystem::path& temporary() const { return temporary_; }
+
+ private:
+  [[noreturn]] void fail(const std::string& reason);
+  void discard() noexcept;
+
+  std::filesystem::path target_;
+  std::filesystem::path temporary_;
+  std::FILE* file_ = nullptr;
+  bool committed_ = false;
+};
+
+/// Opens an AtomicFile for `target`, lets `fill` write into it and commits;
+/// if `fill` throws, the temporary file is removed, any existing target is
+/// left as it was, and the exception propagates.
+void write_file_atomically(const std::filesystem::path& target,
+                           const std::function<void(AtomicFile&)>& fill);
+
+}  // namespace pfill

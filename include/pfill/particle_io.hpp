@@ -1,0 +1,107 @@
+/// @file particle_io.hpp
+/// @brief Particle files: writers for PLY, GLB, CSV and VTK PolyData (.vtp),
+/// readers for PLY and CSV, and the numbered frame sequence of a fill.
+///
+/// Every writer is atomic (see atomic_file.hpp): on any error the target is
+/// left as it was and pfill::Error names the path and the reason. The format
+/// follows the extension of the path (case-insensitive).
+#pragma once
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "pfill/particles.hpp"
+
+namespace pfill {
+
+enum class ParticleFormat { Ply, Glb, Csv, Vtp };
+
+/// The format of `path` from its extension (.ply .glb .csv .vtp); throws
+/// pfill::Error listing the supported extensions otherwise.
+ParticleFormat particle_format_from_path(const std::filesystem::path& path);
+
+struct ParticleWriteOptions {
+  bool velocities = true;   ///< write velocities when the set has them
+  bool spheres = false;     ///< GLB: add an instanced low-poly sphere per particle
+  int sphere_subdivisions = 1;  ///< GLB spheres: icosphere level (1: 80 triangles)
+  bool vtp_binary = true;   ///< VTP: appended raw binary (false: ascii)
+};
+
+/// Writes `particles` in the format named by the extension of `path`.
+void write_particles(const ParticleSet& particles, const std::filesystem::path& path,
+                     const ParticleWriteOptions& options = {});
+
+/// Binary little-endian PLY: element vertex with float x y z radius, uchar
+/// red green blue (with colours), float vx vy vz (with velocities).
+void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
+               const ParticleWriteOptions& options = {});
+
+/// glTF binary. Node "particles": one POINTS primitive with POSITION (min/max
+/// set), COLOR_0 (linear FLOAT VEC3) with colours, and the radius as the
+/// custom attribute _RADIUS (SCALAR FLOAT). With options.spheres, also node
+/// "particle spheres": a unit icosphere scaled to the mean radius, instanced
+/// once per particle by EXT_mesh_gpu_instancing (TRANSLATION, SCALE, and
+/// _COLOR_0 with colours). The extension is listed in extensionsUsed only,
+/// not extensionsRequired, so viewers without it still open the file: they
+/// show the points and one particle-sized sphere at the spheres node's origin.
+void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
+               const ParticleWriteOptions& options = {});
+
+/// CSV with header x,y,z,radius[,r,g,b][,vx,vy,vz]; numbers at full double
+/// precision (max_digits10), so a read gives back the same values.
+void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
+               const ParticleWriteOptions& options = {});
+
+/// VTK XML PolyData: Points (Float64), one vertex cell per particle, PointData
+/// "radius", "colour" (UInt8 x3) and "velocity" (Float64 x3) where present.
+void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
+               const ParticleWriteOptions& options = {});
+
+struct ParticleReadOptions {
+  /// Radius of every particle when the file has none; 0 means "the file must
+  /// have radii" (an error otherwise).
+  double default_radius = 0.0;
+};
+
+/// Reads a .ply or .csv file (by extension).
+ParticleSet read_particles(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+
+/// PLY in ascii, binary_little_endian or binary_big_endian; reads x y z and,
+/// where present, radius, red green blue (uchar, or float in [0,1]) and vx vy
+/// vz from the vertex element, of any scalar type; other properties and
+/// elements are skipped. Truncated or malformed files throw pfill::Error.
+ParticleSet read_ply(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+
+/// CSV whose header names the columns x,y,z[,radius][,r,g,b][,vx,vy,vz] in
+/// any order (case-insensitive; other columns ignored).
+ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+
+/// Writes a fill as numbered PLY files DIR/frame_000000.ply, frame_000001.ply,
+/// ... one every `every` steps, each atomically; creates DIR.
+class FrameWriter {
+ public:
+  FrameWriter(std::filesystem::path dir, uint64_t every);
+
+  /// Writes a frame when step % every == 0; returns whether it did.
+  bool offer(uint64_t step, const ParticleSet& particles);
+  /// Writes the next frame unconditionally (e.g. the final state); returns its path.
+  std::filesystem::path write(const ParticleSet& particles);
+
+  uint64_t frames_written() const { return next_frame_; }
+  const std::filesystem::path& dir() const { return dir_; }
+
+  /// DIR/frame_NNNNNN.ply
+  static std::filesystem::path frame_path(const std::filesystem::path& dir, uint64_t frame);
+
+ private:
+  std::filesystem::path dir_;
+  uint64_t every_;
+  uint64_t next_frame_ = 0;
+};
+
+/// The frame_*.ply files of `dir`, in frame order; throws pfill::Error when
+/// `dir` is not a folder.
+std::vector<std::filesystem::path> list_frames(const std::filesystem::path& dir);
+
+}  // namespace pfill

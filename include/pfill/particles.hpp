@@ -1,0 +1,39 @@
+/// @file particles.hpp
+/// @brief The particle set a fill produces and every writer, reader and the
+/// renderer take: structure of arrays, one entry per particle.
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+using Rgb8 = std::array<uint8_t, 3>;  ///< sRGB-encoded colour, as a user sees it
+
+struct ParticleSet {
+  std::vector<Vec3> positions;   ///< centres
+  std::vector<double> radii;     ///< one per particle, > 0
+  std::vector<Rgb8> colours;     ///< sRGB; empty if the set has no colours
+  std::vector<Vec3> velocities;  ///< empty if the set has no velocities
+
+  size_t size() const { return positions.size(); }
+  bool empty() const { return positions.empty(); }
+  bool has_colours() const { return !colours.empty(); }
+  bool has_velocities() const { return !velocities.empty(); }
+
+  /// Box of the centres grown by each radius (empty box for no particles).
+  Box3 bounds() const;
+
+  void clear() { positions.clear(); radii.clear(); colours.clear(); velocities.clear(); }
+};
+
+/// Throws pfill::Error naming `source` (a file name or "particles") when the
+/// arrays differ in length (colours/velocities may also be empty), or a
+/// position, velocity or radius is not finite, or a radius is not > 0.
+void validate(const ParticleSet& particles, const std::string& source = "particles");
+
+}  // namespace pfill

@@ -1,0 +1,124 @@
+// `pfill info MESH`: what a mesh is made of and whether it can be filled.
+#include <iostream>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/commands.hpp"
+#include "cli/format.hpp"
+#include "pfill/mesh_diagnostics.hpp"
+#include "pfill/mesh_io.hpp"
+#include "pfill/shapes.hpp"
+
+namespace pfill::cli {
+namespace {
+
+struct InfoOptions {
+  std::string mesh_path;
+  std::string builtin;
+  bool json = false;
+};
+
+const double kCounts[] = {1e3, 1e4, 1e5, 1e6};
+constexpr double kPacking = 0.6;
+
+// What a fill will do with a mesh that is not a clean closed surface.
+std::vector<std::string> warnings(const MeshDiagnostics& d) {
+  std::vector<std::string> w;
+  if (d.boundary_edges > 0)
+    w.push_back("the mesh is open (" + thousands(d.boundary_loops) + " holes, " + thousands(d.boundary_edges) +
+                " boundary edges): a fill decides inside by a majority vote of several rays and keeps particles "
+                "away from the surface it has, but particles may escape near the holes; close them for a "
+                "reliable fill");
+  if (d.non_manifold_edges > 0)
+    w.push_back(thousands(d.non_manifold_edges) +
+                " non-manifold edges: inside/outside may be ambiguous near them; repair the mesh for a reliable fill");
+  if (d.inside_out())
+    w.push_back("the mesh is inside-out (negative volume): a fill will reverse its orientation and go on");
+  if (d.misoriented_edges > 0)
+    w.push_back(thousands(d.misoriented_edges) +
+                " edges join triangles of opposite winding: the volume is unreliable; a fill uses ray parity, "
+                "which does not depend on winding");
+  if (d.degenerate_triangles > 0)
+    w.push_back(thousands(d.degenerate_triangles) + " degenerate (zero-area) triangles: harmless for a fill");
+  return w;
+}
+
+nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d) {
+  nlohmann::ordered_json radii = nlohmann::ordered_json::array();
+  for (double n : kCounts)
+    radii.push_back({{"count", n}, {"radius", radius_for_count(d.volume(), n, kPacking)}});
+  return {
+      {"mesh", name},
+      {"vertices", d.vertices},
+      {"triangles", d.triangles},
+      {"bounds", {{"min", {d.bounds.lo.x, d.bounds.lo.y, d.bounds.lo.z}},
+                  {"max", {d.bounds.hi.x, d.bounds.hi.y, d.bounds.hi.z}},
+                  {"diagonal", d.bounds.diagonal()}}},
+      {"components", d.components},
+      {"edges", d.edges},
+      {"boundary_edges", d.boundary_edges},
+      {"holes", d.boundary_loops},
+      {"non_manifold_edges", d.non_manifold_edges},
+      {"misoriented_edges", d.misoriented_edges},
+      {"watertight", d.watertight()},
+      {"degenerate_triangles", d.degenerate_triangles},
+      {"signed_volume", d.signed_volume},
+      {"volume", d.volume()},
+      {"inside_out", d.inside_out()},
+      {"surface_area", d.surface_area},
+      {"genus", d.genus ? nlohmann::ordered_json(*d.genus) : nlohmann::ordered_json(nullptr)},
+      {"packing_fraction_assumed", kPacking},
+      {"radius_for_count", radii},
+      {"warnings", warnings(d)},
+  };
+}
+
+void print_text(const std::string& name, const MeshDiagnostics& d) {
+  auto row = [](const char* key, const std::string& value) {
+    std::printf("  %-13s %s\n", key, value.c_str());
+  };
+  std::printf("%s\n", name.c_str());
+  row("vertices", thousands(d.vertices));
+  row("triangles", thousands(d.triangles));
+  const Vec3 s = d.bounds.size();
+  row("bounds", "[" + num(d.bounds.lo.x) + ", " + num(d.bounds.lo.y) + ", " + num(d.bounds.lo.z) + "] .. [" +
+                    num(d.bounds.hi.x) + ", " + num(d.bounds.hi.y) + ", " + num(d.bounds.hi.z) + "]");
+  row("size", num(s.x) + " x " + num(s.y) + " x " + num(s.z) + "  (diagonal " + num(d.bounds.diagonal()) + ")");
+  row("components", thousands(d.components));
+  row("watertight", d.watertight() ? "yes" : "no: " + thousands(d.boundary_edges) + " boundary edges in " +
+                                                 thousands(d.boundary_loops) + " holes, " +
+                                                 thousands(d.non_manifold_edges) + " non-manifold edges");
+  row("degenerate", thousands(d.degenerate_triangles) + " triangles");
+  row("volume", num(d.volume()) + (d.inside_out() ? "  (inside-out: negative signed volume)" : "  (outward oriented)") +
+                    (d.boundary_loops ? "  estimated with the holes capped" : ""));
+  row("area", num(d.surface_area));
+  row("genus", d.genus ? std::to_string(*d.genus) : "- (not closed)");
+  std::printf("  radius for about N particles (packing fraction %.1f):\n", kPacking);
+  for (double n : kCounts)
+    std::printf("  %13s %s\n", thousands(static_cast<unsigned long long>(n)).c_str(),
+                num(radius_for_count(d.volume(), n, kPacking)).c_str());
+}
+
+}  // namespace
+
+void add_info_command(CLI::App& app) {
+  auto opts = std::make_shared<InfoOptions>();
+  CLI::App* cmd = app.add_subcommand("info", "Report a mesh's size, topology, volume and fitting radii");
+  cmd->add_option("mesh", opts->mesh_path, "Mesh file (glTF/GLB, OBJ, STL, PLY, OFF, SMF, ...)");
+  cmd->add_option("--builtin", opts->builtin, "Use a built-in shape instead of a file (torus, sphere, cube)");
+  cmd->add_flag("--json", opts->json, "Write the report as JSON on standard output");
+  cmd->callback([opts]() {
+    if (opts->mesh_path.empty() == opts->builtin.empty())
+      throw CLI::ValidationError("info", "give either a mesh file or --builtin NAME");
+    const Mesh mesh = opts->builtin.empty() ? load_mesh(opts->mesh_path) : make_builtin(opts->builtin);
+    const MeshDiagnostics d = diagnose(mesh);
+    if (opts->json) {
+      std::cout << to_json(mesh.source, d).dump(2) << "\n";
+    } else {
+      print_text(mesh.source, d);
+    }
+    for (const std::string& w : warnings(d)) std::cerr << "pfill: warning: " << w << "\n";
+  });
+}
+
+}  // namespace pfill::cli

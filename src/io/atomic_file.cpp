@@ -1,0 +1,111 @@
+// Atomic file replacement: temporary file in the target's folder, fsync,
+// rename. POSIX calls, because std::ofstream can neither create exclusively
+// nor sync.
+#include "pfill/atomic_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+#include "pfill/error.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pfill {
+namespace {
+
+std::atomic<unsigned> temporary_counter{0};
+
+fs::path folder_of(const fs::path& target) {
+  const fs::path parent = target.parent_path();
+  return parent.empty() ? fs::path(".") : parent;
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
+  if (target_.filename().empty()) fail("the path names no file");
+  const fs::path folder = folder_of(target_);
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    fail("folder '" + folder.string() + "' does not exist (create it or choose another path)");
+  if (fs::is_directory(target_, ec)) fail("it is a folder (give a file name)");
+
+  // Hidden, unique name in the same folder, so the final rename stays on one
+  // file system and is atomic.
+  for (int attempt = 0; attempt < 100 && !file_; ++attempt) {
+    temporary_ = folder / ("." + target_.filename().string() + ".tmp" +
+                           std::to_string(::getpid()) + "-" +
+                           std::to_string(temporary_counter.fetch_add(1)));
+    const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+    if (fd < 0) {
+      if (errno == EEXIST) continue;
+      const std::string reason = std::strerror(errno);
+      temporary_.clear();
+      fail("cannot create a file in folder '" + folder.string() + "': " + reason +
+           " (check its permissions or choose another path)");
+    }
+    file_ = ::fdopen(fd, "wb");
+    if (!file_) {
+      const std::string reason = std::strerror(errno);
+      ::close(fd);
+      fail(reason);
+    }
+  }
+  if (!file_) fail("could not find a free temporary name in '" + folder.string() + "'");
+  static constexpr size_t kBufferBytes = 1 << 20;
+  std::setvbuf(file_, nullptr, _IOFBF, kBufferBytes);
+}
+
+AtomicFile::~AtomicFile() {
+  if (!committed_) discard();
+}
+
+void AtomicFile::discard() noexcept {
+  if (file_) {
+    std::fclose(file_);
+    file_ = nullptr;
+  }
+  if (!temporary_.empty()) {
+    std::error_code ec;
+    fs::remove(temporary_, ec);
+  }
+}
+
+void AtomicFile::fail(const std::string& reason) {
+  discard();
+  throw Error("cannot write '" + target_.string() + "': " + reason);
+}
+
+void AtomicFile::write(const void* data, size_t bytes) {
+  if (!file_) fail("the file is already closed");
+  if (bytes && std::fwrite(data, 1, bytes, file_) != bytes)
+    fail(std::string(std::strerror(errno)) + " (disk full?)");
+}
+
+void AtomicFile::commit() {
+  if (!file_) fail("the file is already closed");
+  if (std::fflush(file_) != 0) fail(std::string(std::strerror(errno)) + " (disk full?)");
+  if (::fsync(::fileno(file_)) != 0 && errno != EINVAL)
+    fail(std::string("fsync failed: ") + std::strerror(errno));
+  const int closed = std::fclose(file_);
+  file_ = nullptr;
+  if (closed != 0) fail(std::string(std::strerror(errno)));
+  std::error_code ec;
+  fs::rename(temporary_, target_, ec);
+  if (ec) fail("cannot rename the temporary file into place: " + ec.message());
+  committed_ = true;
+}
+
+void write_file_atomically(const fs::path& target, const std::function<void(AtomicFile&)>& fill) {
+  AtomicFile file(target);
+  fill(file);
+  file.commit();
+}
+
+}  // namespace pfill

@@ -1,0 +1,89 @@
+// Choosing a particle format by extension, and the frame sequence of a fill.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <system_error>
+
+#include "pfill/error.hpp"
+#include "pfill/particle_io.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pfill {
+
+ParticleFormat particle_format_from_path(const fs::path& path) {
+  std::string extension = path.extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".ply") return ParticleFormat::Ply;
+  if (extension == ".glb") return ParticleFormat::Glb;
+  if (extension == ".csv") return ParticleFormat::Csv;
+  if (extension == ".vtp") return ParticleFormat::Vtp;
+  throw Error("'" + path.string() + "': unknown particle file type '" + extension +
+              "' (use .ply, .glb, .csv or .vtp)");
+}
+
+void write_particles(const ParticleSet& particles, const fs::path& path,
+                     const ParticleWriteOptions& options) {
+  switch (particle_format_from_path(path)) {
+    case ParticleFormat::Ply: return write_ply(particles, path, options);
+    case ParticleFormat::Glb: return write_glb(particles, path, options);
+    case ParticleFormat::Csv: return write_csv(particles, path, options);
+    case ParticleFormat::Vtp: return write_vtp(particles, path, options);
+  }
+}
+
+ParticleSet read_particles(const fs::path& path, const ParticleReadOptions& options) {
+  const ParticleFormat format = particle_format_from_path(path);
+  if (format == ParticleFormat::Ply) return read_ply(path, options);
+  if (format == ParticleFormat::Csv) return read_csv(path, options);
+  throw Error("cannot read '" + path.string() + "': pfill reads particles from .ply and .csv files only");
+}
+
+FrameWriter::FrameWriter(fs::path dir, uint64_t every) : dir_(std::move(dir)), every_(every) {
+  if (every_ == 0) throw Error("frames every 0 steps: give a positive interval (--every K)");
+  std::error_code ec;
+  fs::create_directories(dir_, ec);
+  if (ec || !fs::is_directory(dir_))
+    throw Error("cannot create the frames folder '" + dir_.string() + "': " +
+                (ec ? ec.message() : std::string("a file of that name exists")));
+}
+
+bool FrameWriter::offer(uint64_t step, const ParticleSet& particles) {
+  if (step % every_ != 0) return false;
+  write(particles);
+  return true;
+}
+
+fs::path FrameWriter::write(const ParticleSet& particles) {
+  const fs::path path = frame_path(dir_, next_frame_);
+  write_ply(particles, path);
+  ++next_frame_;
+  return path;
+}
+
+fs::path FrameWriter::frame_path(const fs::path& dir, uint64_t frame) {
+  char name[32];
+  std::snprintf(name, sizeof name, "frame_%06llu.ply", static_cast<unsigned long long>(frame));
+  return dir / name;
+}
+
+std::vector<fs::path> list_frames(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw Error("'" + dir.string() + "' is not a folder of frames");
+  std::vector<fs::path> frames;
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (entry.is_regular_file() && name.rfind("frame_", 0) == 0 && entry.path().extension() == ".ply")
+      frames.push_back(entry.path());
+  }
+  if (ec) throw Error("cannot list '" + dir.string() + "': " + ec.message());
+  // Zero-padded names sort in frame order; longer names (past 999999) after.
+  std::sort(frames.begin(), frames.end(), [](const fs::path& a, const fs::path& b) {
+    const std::string na = a.filename().string(), nb = b.filename().string();
+    return na.size() != nb.size() ? na.size() < nb.size() : na < nb;
+  });
+  return frames;
+}
+
+}  // namespace pfill

@@ -1,0 +1,44 @@
+// The particle set's bounds and its validation.
+#include "pfill/particles.hpp"
+
+#include <cmath>
+
+#include "pfill/error.hpp"
+
+namespace pfill {
+
+Box3 ParticleSet::bounds() const {
+  Box3 box;
+  for (size_t i = 0; i < positions.size(); ++i) {
+    const double r = i < radii.size() ? radii[i] : 0.0;
+    box.add(positions[i] - Vec3(r, r, r));
+    box.add(positions[i] + Vec3(r, r, r));
+  }
+  return box;
+}
+
+void validate(const ParticleSet& particles, const std::string& source) {
+  const size_t n = particles.size();
+  auto fail = [&](const std::string& what) {
+    throw Error(source + ": invalid particle set: " + what);
+  };
+  if (particles.radii.size() != n)
+    fail(std::to_string(n) + " positions but " + std::to_string(particles.radii.size()) + " radii");
+  if (!particles.colours.empty() && particles.colours.size() != n)
+    fail(std::to_string(n) + " positions but " + std::to_string(particles.colours.size()) +
+         " colours (give one per particle or none)");
+  if (!particles.velocities.empty() && particles.velocities.size() != n)
+    fail(std::to_string(n) + " positions but " + std::to_string(particles.velocities.size()) +
+         " velocities (give one per particle or none)");
+  for (size_t i = 0; i < n; ++i) {
+    if (!is_finite(particles.positions[i]))
+      fail("particle " + std::to_string(i) + " has a non-finite position");
+    const double r = particles.radii[i];
+    if (!std::isfinite(r) || !(r > 0))
+      fail("particle " + std::to_string(i) + " has radius " + std::to_string(r) + " (must be > 0)");
+    if (!particles.velocities.empty() && !is_finite(particles.velocities[i]))
+      fail("particle " + std::to_string(i) + " has a non-finite velocity");
+  }
+}
+
+}  // namespace pfill
