@@ -5,6 +5,10 @@
 
 namespace pfill::cli {
 
+/// `pfill fill [MESH] -o OUT [options]`: the main job; returns the subcommand
+CLI::App* add_fill_command(CLI::App& app);
+/// `pfill check PARTICLES MESH [--json]`
+void add_check_command(CLI::App& app);
 /// `pfill info MESH|--builtin NAME [--json]`
 void add_info_command(CLI::App& app);
 /// `pfill devices [--device SPEC]`

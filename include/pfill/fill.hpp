@@ -1,0 +1,124 @@
+/// @file fill.hpp
+/// @brief The fill: a closed mesh in, a dense set of spheres out, by the
+/// physics method of DESIGN.md (births at the deepest points, Lennard-Jones
+/// pushes and inelastic collisions on the OpenCL engine, stop when overfull,
+/// top up, settle, relieve overlaps, verify exactly).
+#pragma once
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "pfill/birth_sites.hpp"
+#include "pfill/mesh.hpp"
+#include "pfill/packing_metrics.hpp"
+#include "pfill/particles.hpp"
+#include "pfill/stop_tests.hpp"
+
+namespace pfill {
+
+/// What a long fill reports while it runs (through FillOptions::progress).
+struct FillProgress {
+  std::string phase;            ///< "field", "pass 1", "pass 2", "settle", "relief", "verify"
+  uint64_t step = 0;            ///< engine steps so far
+  size_t particles = 0;
+  size_t target = 0;            ///< the count expected when full (an estimate)
+  double kinetic_energy = 0;
+  uint32_t colliding_pairs = 0;
+  double steps_per_second = 0;
+  double elapsed = 0;           ///< seconds since the fill began
+  double remaining = -1;        ///< estimated seconds left; < 0 when unknown
+};
+
+struct FillOptions {
+  // Density, as in the report: a radius, or a count that picks one.
+  double radius = 0;            ///< particle radius in mesh units; 0: from `count`
+  size_t count = 0;             ///< about this many particles (when radius is 0)
+  double rest_distance = 1.0;   ///< potential minimum, in contact distances 2r (>= 1)
+
+  // The potential and collisions.
+  double epsilon = 1.0;
+  double exponent_a = 12, exponent_b = 6;
+  double cutoff = 0;            ///< in sigma; 0: purely repulsive (cut at the minimum)
+  double restitution = 0.5;
+  double wall_restitution = 0.5;
+  double damping = 0;           ///< velocity damping rate during passes 1-2
+
+  // Births.
+  int sites = 2;                ///< birth sites: the deepest point, then far deep points
+  int birth_every = 3;          ///< steps between birth attempts at each site
+  std::optional<Vec3> birth_point;  ///< overrides the first site
+  double birth_speed_min = 0.2; ///< newborn speed range, as fractions of the top speed
+  double birth_speed_max = 0.5;
+  double birth_clearance = 1.0; ///< a site has room when no centre is within this times 2r
+  uint64_t seed = 1;
+
+  // Pass 1 stopping.
+  StopCriterion stop = StopCriterion::Blocked;
+  KineticEnergySettings ke;
+  CollisionCountSettings collisions;
+  BlockedSitesSettings blocked;
+  uint64_t max_steps = 0;       ///< step budget of pass 1; 0: 100 per expected particle + 20,000
+
+  // Pass 2, settling and overlap relief.
+  int top_up_patience = 1500;   ///< pass 2 gives up after this many steps without a birth
+  double rest_speed = 0.02;     ///< at rest: top speed below this fraction of the speed cap ...
+  int rest_steps = 200;         ///< ... for this many steps
+  uint64_t settle_budget = 20000;
+  double max_overlap = 0.05;    ///< overlap bound after relief, fraction of r
+  double relief_fraction = 0.02;///< share of overlapping spheres removed per relief round
+  int relief_steps = 300;       ///< damped relaxation steps per relief round
+  int max_relief_rounds = 80;
+  double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
+
+  // Machinery.
+  double field_spacing = 0.33;  ///< signed distance grid spacing, in radii
+  size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
+  int sync_every = 8;           ///< steps between reads of the step history
+  std::string device;           ///< OpenCL device spec (index or name); "" = default
+  std::function<void(const FillProgress&)> progress;
+  /// Called with a snapshot every `frame_every` steps (for --frames).
+  std::function<void(uint64_t step, const ParticleSet&)> on_frame;
+  uint64_t frame_every = 0;
+};
+
+struct PassStats {
+  std::string name;
+  uint64_t steps = 0;
+  double seconds = 0;
+};
+
+struct FillResult {
+  ParticleSet particles;
+  PackingMetrics metrics;
+  double radius = 0;
+  size_t expected = 0;          ///< count estimated from the volume before the fill
+  size_t max_parts = 0;         ///< MaxParts: the count at overfull, less one
+  std::string stop_signal;      ///< which test ended pass 1: blocked, ke, collisions, budget
+  std::string stop_reason;      ///< one sentence on why
+  std::string settle_reason;
+  size_t lost_outside = 0;      ///< particles the boundary kernel flagged outside and removed
+  size_t ke_events = 0, collision_events = 0;
+  size_t relief_removed = 0;    ///< removed to bring overlaps under the bound
+  size_t relief_rounds = 0;
+  ContainmentRepair containment;
+  std::vector<PassStats> passes;
+  std::vector<BirthSite> sites;
+  double field_seconds = 0;
+  size_t field_bytes = 0;
+  double field_spacing = 0;
+  std::string device;
+  double seconds = 0;
+  uint64_t steps = 0;
+  std::vector<std::string> warnings;  ///< about the mesh (open, inside-out)
+};
+
+/// Fills `mesh`. Throws pfill::Error with a one-line message for bad
+/// settings, a radius that does not fit, or a device that cannot hold it.
+FillResult fill(const Mesh& mesh, const FillOptions& options);
+
+/// Radius that gives about `count` particles in `volume` for a physics fill.
+double fill_radius_for_count(double volume, size_t count);
+
+}  // namespace pfill

@@ -1,0 +1,60 @@
+/// @file packing_metrics.hpp
+/// @brief How good a set of spheres in a mesh is, measured exactly (Embree
+/// distances, not the interpolated field): packing fraction, containment,
+/// overlaps, coordination; and the final repair that moves spheres crossing
+/// the surface back inside or removes them. Used after every fill and by
+/// `pfill check`.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "pfill/boundary.hpp"
+#include "pfill/particles.hpp"
+
+namespace pfill {
+
+struct PackingMetrics {
+  size_t count = 0;
+  double mesh_volume = 0;
+  double packing_fraction = 0;     ///< sum of sphere volumes / mesh volume
+  double contained_share = 0;      ///< spheres inside within the tolerance, 0..1
+  size_t centres_outside = 0;      ///< spheres whose centre is outside the mesh
+  double max_penetration = 0;      ///< largest (r - depth of centre) / r, 0 when all inside
+  size_t overlapping_pairs = 0;    ///< pairs closer than r_i + r_j
+  double mean_overlap = 0;         ///< mean (r_i + r_j - d) / r over overlapping pairs
+  double max_overlap = 0;          ///< largest (r_i + r_j - d) / r
+  double mean_coordination = 0;    ///< contacts per sphere (gap below contact_gap r)
+  double containment_tolerance = 0;
+};
+
+struct MetricsOptions {
+  double containment_tolerance = 0.01;  ///< a sphere may cross the surface by this fraction of r
+  double contact_gap = 0.02;            ///< spheres closer than r_i + r_j + gap * r touch
+};
+
+/// Measures `particles` in the mesh of `boundary` (whose volume is given,
+/// since open meshes need the estimate from diagnose()). Parallel.
+PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, const ParticleSet& particles,
+                               const MetricsOptions& options = {});
+
+/// The pairs (i < j) whose spheres overlap, with overlap (r_i + r_j - d) as a
+/// fraction of their mean radius. Host hash grid, O(n).
+struct Overlap {
+  uint32_t i = 0, j = 0;
+  double fraction = 0;
+};
+std::vector<Overlap> find_overlaps(const ParticleSet& particles, double min_fraction = 0.0);
+
+struct ContainmentRepair {
+  size_t moved = 0;    ///< spheres pushed back to lie inside
+  size_t removed = 0;  ///< spheres that could not be placed inside without overlapping
+};
+
+/// Every sphere crossing the surface by more than `tolerance` r is moved
+/// along the surface normal to lie exactly inside; if it then overlaps a
+/// neighbour by more than `max_overlap` r, or its centre is still not deep
+/// enough (a part thinner than the sphere), it is removed. Exact distances.
+ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& particles, double tolerance,
+                                     double max_overlap);
+
+}  // namespace pfill

@@ -1,0 +1,235 @@
+// `pfill fill [MESH] -o OUT [options]`: the main job. Without a mesh it
+// fills a built-in shape and writes into the current folder.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "cli/commands.hpp"
+#include "cli/format.hpp"
+#include "cli/metrics_report.hpp"
+#include "pfill/atomic_file.hpp"
+#include "pfill/error.hpp"
+#include "pfill/fill.hpp"
+#include "pfill/mesh_io.hpp"
+#include "pfill/particle_io.hpp"
+#include "pfill/render.hpp"
+#include "pfill/shapes.hpp"
+
+namespace fs = std::filesystem;
+
+namespace pfill::cli {
+namespace {
+
+struct FillArgs {
+  std::string mesh;
+  std::string builtin = "torus";
+  std::string output;
+  std::string report;
+  std::string preview;
+  std::string frames;
+  uint64_t frame_every = 100;
+  std::string birth;
+  std::string exponents = "12,6";
+  std::string stop = "blocked";
+  bool spheres = false;
+  bool velocities = false;
+  bool quiet = false;
+  FillOptions options;
+};
+
+// One updating line on a terminal, a plain line every few seconds otherwise.
+class ProgressPrinter {
+ public:
+  explicit ProgressPrinter(bool quiet) : quiet_(quiet), tty_(isatty(STDERR_FILENO) != 0) {}
+  ~ProgressPrinter() { end_line(); }
+
+  void operator()(const FillProgress& p) {
+    if (quiet_) return;
+    const auto now = std::chrono::steady_clock::now();
+    const double since = std::chrono::duration<double>(now - last_).count();
+    if (p.phase == phase_ && since < (tty_ ? 0.2 : 5.0)) return;
+    if (p.phase != phase_ && !tty_) std::fprintf(stderr, "pfill: %s\n", p.phase.c_str());
+    phase_ = p.phase;
+    last_ = now;
+    char line[256];
+    std::snprintf(line, sizeof line, "%-7s %9s particles (~%s when full)  KE %-9.3g pairs %-6u %7.0f steps/s  %5.0fs%s",
+                  p.phase.c_str(), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,
+                  p.colliding_pairs, p.steps_per_second, p.elapsed,
+                  p.remaining >= 0 ? ("  ~" + num(p.remaining, 2) + "s left").c_str() : "");
+    if (tty_) {
+      std::fprintf(stderr, "\r%-120s", line);
+      open_ = true;
+    } else {
+      std::fprintf(stderr, "pfill: %s\n", line);
+    }
+    std::fflush(stderr);
+  }
+
+  void end_line() {
+    if (open_) std::fprintf(stderr, "\n");
+    open_ = false;
+  }
+
+ private:
+  bool quiet_;
+  bool tty_;
+  bool open_ = false;
+  std::string phase_;
+  std::chrono::steady_clock::time_point last_{};
+};
+
+Vec3 parse_point(const std::string& text) {
+  Vec3 p;
+  char extra = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &p.x, &p.y, &p.z, &extra) != 3 || !is_finite(p))
+    throw Error("--birth '" + text + "': give three numbers X,Y,Z");
+  return p;
+}
+
+void parse_exponents(const std::string& text, FillOptions& o) {
+  char extra = 0;
+  if (std::sscanf(text.c_str(), "%lf,%lf%c", &o.exponent_a, &o.exponent_b, &extra) != 2 ||
+      !(o.exponent_a > o.exponent_b && o.exponent_b > 0))
+    throw Error("--exponents '" + text + "': give A,B with A > B > 0 (default 12,6)");
+}
+
+nlohmann::ordered_json report_json(const FillArgs& a, const Mesh& mesh, const FillResult& r) {
+  nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+  for (const PassStats& p : r.passes) passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+  nlohmann::ordered_json sites = nlohmann::ordered_json::array();
+  for (const BirthSite& s : r.sites)
+    sites.push_back({{"position", {s.position.x, s.position.y, s.position.z}}, {"depth", s.depth}});
+  return {{"mesh", mesh.source},
+          {"output", a.output},
+          {"radius", r.radius},
+          {"seed", a.options.seed},
+          {"device", r.device},
+          {"metrics", metrics_json(r.metrics)},
+          {"expected_count", r.expected},
+          {"max_parts", r.max_parts},
+          {"stop_signal", r.stop_signal},
+          {"stop_reason", r.stop_reason},
+          {"settle_reason", r.settle_reason},
+          {"lost_outside", r.lost_outside},
+          {"relief_removed", r.relief_removed},
+          {"relief_rounds", r.relief_rounds},
+          {"containment_moved", r.containment.moved},
+          {"containment_removed", r.containment.removed},
+          {"passes", passes},
+          {"steps", r.steps},
+          {"seconds", r.seconds},
+          {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
+          {"sites", sites},
+          {"warnings", r.warnings}};
+}
+
+void run_fill(FillArgs& a) {
+  const bool from_file = !a.mesh.empty();
+  const Mesh mesh = from_file ? load_mesh(a.mesh) : make_builtin(a.builtin);
+  if (a.output.empty())
+    a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
+  if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
+  parse_exponents(a.exponents, a.options);
+  a.options.stop = parse_stop_criterion(a.stop);
+  if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+
+  ProgressPrinter printer(a.quiet);
+  a.options.progress = [&printer](const FillProgress& p) { printer(p); };
+  std::unique_ptr<FrameWriter> frames;
+  if (!a.frames.empty()) {
+    frames = std::make_unique<FrameWriter>(a.frames, 1);
+    a.options.frame_every = a.frame_every;
+    a.options.on_frame = [&frames](uint64_t, const ParticleSet& s) { frames->write(s); };
+  }
+  if (!a.quiet) std::fprintf(stderr, "pfill: filling %s\n", mesh.source.c_str());
+  const FillResult r = fill(mesh, a.options);
+  printer.end_line();
+  for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
+
+  ParticleWriteOptions wo;
+  wo.spheres = a.spheres;
+  wo.velocities = a.velocities;
+  write_particles(r.particles, a.output, wo);
+  if (frames) frames->write(r.particles);
+  if (!a.preview.empty()) {
+    RenderOptions ro;
+    ro.cut = parse_cut("z");
+    write_png(render(r.particles, &mesh, ro), a.preview);
+  }
+  if (!a.report.empty()) {
+    const std::string text = report_json(a, mesh, r).dump(2) + "\n";
+    write_file_atomically(a.report, [&](AtomicFile& f) { f.write(text); });
+  }
+
+  std::printf("%s -> %s  (radius %s, %s)\n", mesh.source.c_str(), a.output.c_str(), num(r.radius).c_str(),
+              r.device.c_str());
+  print_metrics(stdout, r.metrics);
+  std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
+  std::printf("  settle          %s\n", r.settle_reason.c_str());
+  std::printf("  removed         %s flagged outside, %s for overlaps (%s rounds), %s by the exact check (%s moved in)\n",
+              thousands(r.lost_outside).c_str(), thousands(r.relief_removed).c_str(),
+              thousands(r.relief_rounds).c_str(), thousands(r.containment.removed).c_str(),
+              thousands(r.containment.moved).c_str());
+  std::string passes;
+  for (const PassStats& p : r.passes)
+    passes += (passes.empty() ? "" : ", ") + p.name + " " + thousands(p.steps) + " steps " + num(p.seconds, 3) + "s";
+  std::printf("  time            %.1fs (field %.1fs; %s)\n", r.seconds, r.field_seconds, passes.c_str());
+}
+
+}  // namespace
+
+CLI::App* add_fill_command(CLI::App& app) {
+  auto a = std::make_shared<FillArgs>();
+  FillOptions& o = a->options;
+  CLI::App* cmd = app.add_subcommand("fill", "Fill a mesh with particles (no mesh: a built-in shape)");
+  cmd->add_option("mesh", a->mesh, "Mesh file: glTF/GLB, OBJ, STL, PLY, OFF, SMF, FBX, DAE, ...");
+  cmd->add_option("--builtin", a->builtin, "Built-in shape when no mesh is given: torus, sphere, cube")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", a->output,
+                  "Output file; format from the extension: .ply .glb .csv .vtp (default NAME_particles.ply here)");
+  cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units");
+  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius; default 4000)");
+  cmd->add_option("--rest-distance", o.rest_distance,
+                  "Rest distance of the potential in contact distances 2r (>= 1; larger = sparser)")
+      ->capture_default_str();
+  cmd->add_option("--epsilon", o.epsilon, "Depth of the potential well")->capture_default_str();
+  cmd->add_option("--cutoff", o.cutoff, "Cutoff in sigma (e.g. 2.5) for the attractive form; 0 = purely repulsive")
+      ->capture_default_str();
+  cmd->add_option("--exponents", a->exponents, "Potential exponents A,B (repulsive, attractive)")
+      ->capture_default_str();
+  cmd->add_option("--restitution", o.restitution, "Particle-particle restitution, 0..1")->capture_default_str();
+  cmd->add_option("--wall-restitution", o.wall_restitution, "Particle-surface restitution, 0..1")
+      ->capture_default_str();
+  cmd->add_option("--damping", o.damping, "Velocity damping rate during the fill")->capture_default_str();
+  cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
+      ->capture_default_str();
+  cmd->add_option("--sites", o.sites, "Birth sites: the deepest point, then far deep points")->capture_default_str();
+  cmd->add_option("--birth-every", o.birth_every, "Steps between birth attempts at each site")
+      ->capture_default_str();
+  cmd->add_option("--birth-clearance", o.birth_clearance,
+                  "A site has room when no centre is within this many contact distances 2r")
+      ->capture_default_str();
+  cmd->add_option("--birth", a->birth, "First birth site X,Y,Z (must be inside; default the deepest point)");
+  cmd->add_option("--stop", a->stop, "What ends pass 1: blocked (sites full), ke (kinetic energy), collisions")
+      ->capture_default_str();
+  cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
+      ->capture_default_str();
+  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap left after relief, fraction of r")
+      ->capture_default_str();
+  cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
+  cmd->add_option("--report", a->report, "Write the metrics and the run's figures as JSON to this file");
+  cmd->add_option("--preview", a->preview, "Render the result, cut open, to this PNG");
+  cmd->add_option("--frames", a->frames, "Write the fill as numbered PLY frames into this folder");
+  cmd->add_option("--every", a->frame_every, "Steps between frames")->capture_default_str();
+  cmd->add_flag("--spheres", a->spheres, "GLB: an instanced low-poly sphere per particle");
+  cmd->add_flag("--velocities", a->velocities, "Write velocities (PLY vx vy vz, CSV, VTP)");
+  cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
+  cmd->callback([a]() { run_fill(*a); });
+  return cmd;
+}
+
+}  // namespace pfill::cli

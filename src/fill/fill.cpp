@@ -1,0 +1,461 @@
+// The fill, read top-down as the algorithm of DESIGN.md:
+//
+//   prepare: mesh -> boundary -> signed distance field -> birth sites -> engine
+//   pass 1:  while not overfull: births at the sites; update
+//   pass 2:  MaxParts = count - 1; top up to MaxParts (refill what was lost)
+//   settle:  update until at rest
+//   relief:  damped repulsive relaxation, removing the most-overlapped few
+//   verify:  exact containment repair and metrics
+//
+// The host never reads positions per step: it runs `sync_every` steps,
+// then reads the step history (kinetic energy, colliding pairs, ...) and a
+// snapshot of the positions that the birth-room test uses.
+#include "pfill/fill.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <random>
+
+#include "pfill/boundary.hpp"
+#include "pfill/device/device.hpp"
+#include "pfill/engine/engine.hpp"
+#include "pfill/error.hpp"
+#include "pfill/mesh_diagnostics.hpp"
+#include "pfill/sdf.hpp"
+
+namespace pfill {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kExpectedPacking = 0.62;  // what physics fills reach (DESIGN.md)
+constexpr size_t kMaxParticles = 100'000'000;
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+ParticleSet to_particle_set(const std::vector<Particle>& ps) {
+  ParticleSet set;
+  set.positions.reserve(ps.size());
+  set.radii.reserve(ps.size());
+  for (const Particle& p : ps) {
+    set.positions.push_back(p.position);
+    set.radii.push_back(p.radius);
+  }
+  return set;
+}
+
+class FillRun {
+ public:
+  FillRun(const Mesh& mesh, const FillOptions& options) : mesh_(mesh), o_(options), rng_(options.seed) {}
+
+  FillResult run() {
+    prepare();
+    pass1();
+    pass2();
+    settle();
+    relieve();
+    verify();
+    result_.seconds = seconds_since(start_);
+    result_.steps = fill_steps_ + relax_steps_;
+    return std::move(result_);
+  }
+
+ private:
+  // ---- prepare: geometry, radius, field, sites, engine ----
+  void prepare() {
+    check_options();
+    const MeshDiagnostics d = diagnose(mesh_);
+    if (d.boundary_edges > 0)
+      result_.warnings.push_back("the mesh is open (" + std::to_string(d.boundary_loops) +
+                                 " holes): inside is decided by a majority of rays; particles near the holes may "
+                                 "be removed by the final check");
+    if (d.inside_out()) {
+      flip_orientation(mesh_);
+      result_.warnings.push_back("the mesh was inside-out (negative volume): its orientation was reversed");
+    }
+    volume_ = d.volume();
+    if (!(volume_ > 0)) throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
+
+    radius_ = o_.radius > 0 ? o_.radius : fill_radius_for_count(volume_, o_.count);
+    if (!(radius_ > 0)) throw Error("give a particle radius (-r) or a count (-n)");
+    const double expected = kExpectedPacking * volume_ / (4.0 / 3.0 * kPi * radius_ * radius_ * radius_);
+    if (expected > kMaxParticles)
+      throw Error("a radius of " + fmt(radius_) + " would give about " + fmt(expected) +
+                  " particles, more than pfill handles (" + fmt(kMaxParticles) +
+                  "); choose a larger radius or a smaller count");
+    result_.radius = radius_;
+    result_.expected = static_cast<size_t>(std::llround(expected));
+
+    report("field");
+    boundary_ = std::make_unique<Boundary>(mesh_);
+    SdfOptions so(o_.field_spacing * radius_);
+    const Box3 box = mesh_.bounds();
+    const Vec3 size = box.size();
+    const double margin = 3 * so.spacing + 2 * radius_;
+    auto samples = [&](double h) {
+      return (size.x + 2 * margin) / h * (size.y + 2 * margin) / h * (size.z + 2 * margin) / h;
+    };
+    if (samples(so.spacing) > static_cast<double>(o_.max_field_samples)) {
+      so.spacing *= std::cbrt(samples(so.spacing) / static_cast<double>(o_.max_field_samples)) * 1.01;
+      result_.warnings.push_back("the distance field was coarsened to a spacing of " + fmt(so.spacing / radius_) +
+                                 " r to stay within " + fmt(static_cast<double>(o_.max_field_samples)) +
+                                 " samples; the final exact check corrects what it misses");
+    }
+    so.margin = 2 * radius_ + 3 * so.spacing;
+    so.band = std::max(3 * radius_, 4 * so.spacing);
+    SdfStats stats;
+    field_ = build_signed_distance_field(*boundary_, so, &stats);
+    result_.field_seconds = stats.seconds;
+    result_.field_bytes = stats.bytes;
+    result_.field_spacing = so.spacing;
+
+    sites_ = choose_birth_sites(field_, std::max(1, o_.sites), radius_);
+    if (sites_.empty()) {
+      double deepest = 0;
+      for (float v : field_.values) deepest = std::max(deepest, -static_cast<double>(v));
+      throw Error("no particle of radius " + fmt(radius_) + " fits: the deepest point is " + fmt(deepest) +
+                  " from the surface; choose a smaller radius or a larger count");
+    }
+    if (o_.birth_point) {
+      const Vec3 p = *o_.birth_point;
+      if (!boundary_->inside(p))
+        throw Error("--birth " + fmt(p.x) + "," + fmt(p.y) + "," + fmt(p.z) +
+                    " is outside the mesh; give a point inside it or leave --birth out");
+      const double depth = -boundary_->signed_distance(p);
+      if (depth < radius_)
+        throw Error("--birth point is only " + fmt(depth) + " from the surface, less than the radius " +
+                    fmt(radius_) + "; move it deeper inside");
+      sites_[0] = {p, depth};
+    }
+    result_.sites = sites_;
+
+    device_ = std::make_unique<Device>(o_.device);
+    result_.device = device_->info().name;
+    const size_t bytes_needed = static_cast<size_t>(expected * 2 + 1024) * 96 + stats.bytes;
+    if (device_->info().global_memory > 0 && bytes_needed > device_->info().global_memory)
+      throw Error("about " + fmt(expected) + " particles need ~" + fmt(bytes_needed / 1048576.0) + " MiB but " +
+                  device_->info().name + " has " + fmt(device_->info().global_memory / 1048576.0) +
+                  " MiB; choose a larger radius or another device (--device)");
+    params_.radius = radius_;
+    params_.max_radius = radius_ * (1 + 1e-6);  // radii come back from the device as floats
+    params_.rest_distance = o_.rest_distance * 2 * radius_;
+    params_.eps = o_.epsilon;
+    params_.exponent_a = o_.exponent_a;
+    params_.exponent_b = o_.exponent_b;
+    params_.cutoff_sigma = o_.cutoff;
+    params_.restitution = o_.restitution;
+    params_.wall_restitution = o_.wall_restitution;
+    params_.damping = o_.damping;
+    engine_ = std::make_unique<Engine>(*device_, params_);
+    engine_->set_field(field_);
+    top_speed_ = engine_->constants().max_speed;
+  }
+
+  void check_options() const {
+    auto need = [](bool ok, const std::string& what) {
+      if (!ok) throw Error(what);
+    };
+    need(o_.radius >= 0 && std::isfinite(o_.radius), "the radius must be a positive number");
+    need(o_.radius > 0 || o_.count > 0, "give a particle radius (-r) or a count (-n)");
+    need(o_.count <= kMaxParticles, "a count of " + std::to_string(o_.count) + " is more than pfill handles (" +
+                                        fmt(kMaxParticles) + "); ask for fewer particles");
+    need(o_.rest_distance >= 1, "--rest-distance must be >= 1 (a multiple of the contact distance 2r)");
+    need(o_.sites >= 1 && o_.sites <= 64, "--sites must be 1..64");
+    need(o_.birth_every >= 1, "--birth-every must be >= 1");
+    need(o_.birth_speed_min >= 0 && o_.birth_speed_max >= o_.birth_speed_min && o_.birth_speed_max <= 1,
+         "birth speeds must satisfy 0 <= min <= max <= 1 (fractions of the top speed)");
+    need(o_.max_overlap > 0 && o_.max_overlap < 1, "--max-overlap must be in (0, 1)");
+    need(o_.field_spacing > 0 && o_.field_spacing <= 2, "the field spacing must be in (0, 2] radii");
+    need(o_.sync_every >= 1 && o_.sync_every <= 1000, "sync_every must be 1..1000");
+  }
+
+  // ---- pass 1: births until the object is overfull ----
+  void pass1() {
+    const auto t = Clock::now();
+    const uint64_t first = engine_->steps_done();
+    const uint64_t budget = o_.max_steps ? o_.max_steps : 100 * result_.expected + 20000;
+    KineticEnergyTest ke(o_.ke);
+    CollisionCountTest collisions(o_.collisions);
+    BlockedSitesTest blocked(o_.blocked);
+    phase_ = "pass 1";
+    bool overfull = false;
+    while (!overfull) {
+      const bool hold = ke.waiting() || collisions.waiting();
+      const std::vector<bool> born = run_batch(!hold);
+      for (size_t k = 0; k < history_.size() && !overfull; ++k) {
+        const StepRecord& r = history_[k];
+        const bool b = k < born.size() && born[k];
+        StopVerdict v = StopVerdict::Continue;
+        if (o_.stop == StopCriterion::KineticEnergy) v = ke.observe(r, b);
+        if (o_.stop == StopCriterion::Collisions) v = collisions.observe(r, b);
+        if (v == StopVerdict::RemoveNewest) {
+          remove_newest();
+        } else if (v == StopVerdict::Overfull) {
+          overfull = true;
+          result_.stop_signal = to_string(o_.stop);
+          result_.stop_reason =
+              o_.stop == StopCriterion::KineticEnergy
+                  ? "the kinetic energy rose over " + std::to_string(o_.ke.rising_steps) + " steps " +
+                        std::to_string(ke.events()) + " times"
+                  : "the colliding-pair count stayed unchanged and could not be lowered after " +
+                        std::to_string(o_.collisions.max_tries) + " removals";
+        }
+        // The blocked-sites test always runs: it ends the pass when the
+        // report's tests never fire (a prototype found they rarely do).
+        if (!overfull && blocked.observe(b) == StopVerdict::Overfull) {
+          overfull = true;
+          result_.stop_signal = "blocked";
+          result_.stop_reason = "no birth site had room for " + std::to_string(o_.blocked.patience) + " steps" +
+                                (o_.stop != StopCriterion::Blocked
+                                     ? std::string(" (the ") + to_string(o_.stop) + " test did not fire first)"
+                                     : "");
+        }
+      }
+      result_.ke_events = ke.events();
+      result_.collision_events = collisions.tries();
+      if (!overfull && engine_->steps_done() - first >= budget) {
+        overfull = true;
+        result_.stop_signal = "budget";
+        result_.stop_reason = "the step budget of pass 1 (" + std::to_string(budget) + " steps) ran out";
+      }
+    }
+    result_.passes.push_back({"pass 1", engine_->steps_done() - first, seconds_since(t)});
+  }
+
+  // ---- pass 2: MaxParts = count - 1; top up to it ----
+  void pass2() {
+    const auto t = Clock::now();
+    const uint64_t first = engine_->steps_done();
+    phase_ = "pass 2";
+    result_.max_parts = engine_->size() > 0 ? engine_->size() - 1 : 0;
+    if (engine_->size() > result_.max_parts && engine_->size() > 1) remove_newest();
+    int idle = 0;
+    while (engine_->size() < result_.max_parts && idle < o_.top_up_patience) {
+      const std::vector<bool> born = run_batch(true);
+      const bool any = std::find(born.begin(), born.end(), true) != born.end();
+      idle = any ? 0 : idle + static_cast<int>(born.size());
+    }
+    result_.passes.push_back({"pass 2", engine_->steps_done() - first, seconds_since(t)});
+  }
+
+  // ---- settle: run until at rest ----
+  void settle() {
+    const auto t = Clock::now();
+    const uint64_t first = engine_->steps_done();
+    phase_ = "settle";
+    int calm = 0;
+    result_.settle_reason = "the step budget (" + std::to_string(o_.settle_budget) + " steps) ran out";
+    while (engine_->steps_done() - first < o_.settle_budget) {
+      run_batch(false);
+      for (const StepRecord& r : history_) calm = r.max_speed < o_.rest_speed * top_speed_ ? calm + 1 : 0;
+      if (calm >= o_.rest_steps) {
+        result_.settle_reason = "at rest: every speed below " + fmt(o_.rest_speed) + " of the top speed for " +
+                                std::to_string(o_.rest_steps) + " steps";
+        break;
+      }
+    }
+    result_.passes.push_back({"settle", engine_->steps_done() - first, seconds_since(t)});
+  }
+
+  // ---- relief: damped repulsive relaxation, removing the most overlapped ----
+  void relieve() {
+    const auto t = Clock::now();
+    phase_ = "relief";
+    EngineParams relax = params_;
+    relax.cutoff_sigma = 0;     // purely repulsive: attraction would pull spheres together
+    relax.restitution = 0;
+    relax.wall_restitution = 0;
+    relax.damping = -std::log(0.9) / derive_constants(relax).dt;  // speeds fall 10% a step
+    Engine relaxer(*device_, relax);
+    relaxer.set_field(field_);
+    std::vector<Particle> ps = engine_->read_particles();
+    for (Particle& p : ps) p.velocity = {};
+    relaxer.add_particles(ps);
+    fill_steps_ = engine_->steps_done();
+    engine_.reset();  // the relaxer holds the particles from here on
+
+    for (int round = 0;; ++round) {
+      relaxer.run_steps(o_.relief_steps);
+      relax_steps_ += o_.relief_steps;
+      relaxer.read_history();
+      relaxer.remove_particles(flagged_of(relaxer));
+      particles_ = to_particle_set(relaxer.read_particles());
+      const std::vector<Overlap> overlaps = find_overlaps(particles_, o_.max_overlap);
+      report_particles(particles_.size(), 0, static_cast<uint32_t>(overlaps.size()));
+      if (overlaps.empty() || round >= o_.max_relief_rounds) {
+        result_.relief_rounds = static_cast<size_t>(round) + 1;
+        break;
+      }
+      // Each sphere's worst overlap; remove the worst `relief_fraction` of them.
+      std::vector<double> worst(particles_.size(), 0);
+      for (const Overlap& o : overlaps) {
+        worst[o.i] = std::max(worst[o.i], o.fraction);
+        worst[o.j] = std::max(worst[o.j], o.fraction);
+      }
+      std::vector<size_t> over;
+      for (size_t i = 0; i < worst.size(); ++i)
+        if (worst[i] > 0) over.push_back(i);
+      std::sort(over.begin(), over.end(), [&](size_t a, size_t b) { return worst[a] > worst[b] || (worst[a] == worst[b] && a < b); });
+      const size_t n = std::max<size_t>(1, static_cast<size_t>(std::ceil(o_.relief_fraction * over.size())));
+      over.resize(std::min(n, over.size()));
+      result_.relief_removed += over.size();
+      relaxer.remove_particles(over);
+    }
+    result_.passes.push_back({"relief", relax_steps_, seconds_since(t)});
+  }
+
+  // ---- verify: exact containment, then the metrics ----
+  void verify() {
+    phase_ = "verify";
+    report_particles(particles_.size(), 0, 0);
+    result_.containment =
+        repair_containment(*boundary_, particles_, o_.containment_tolerance, o_.max_overlap);
+    MetricsOptions mo;
+    mo.containment_tolerance = o_.containment_tolerance;
+    result_.metrics = measure_packing(*boundary_, volume_, particles_, mo);
+    result_.particles = std::move(particles_);
+  }
+
+  // ---- the machinery shared by the passes ----
+
+  /// Runs `sync_every` steps (with birth attempts when `births`), then reads
+  /// the history and a snapshot, removes flagged particles, reports progress.
+  /// Returns, per step of the batch, whether a particle was born before it.
+  std::vector<bool> run_batch(bool births) {
+    std::vector<bool> born(static_cast<size_t>(o_.sync_every), false);
+    for (int s = 0; s < o_.sync_every; ++s) {
+      if (births && engine_->steps_done() % static_cast<uint64_t>(o_.birth_every) == 0 &&
+          (phase_ != "pass 2" || engine_->size() < result_.max_parts))
+        born[s] = birth_at_sites();
+      engine_->run_steps(1);
+    }
+    history_ = engine_->read_history();
+    uint32_t flagged = 0;
+    for (const StepRecord& r : history_) flagged = std::max(flagged, r.flagged);
+    if (flagged > 0) {
+      const std::vector<size_t> out = flagged_of(*engine_);
+      result_.lost_outside += out.size();
+      engine_->remove_particles(out);
+    }
+    const std::vector<Particle> ps = engine_->read_particles();
+    snapshot_.clear();
+    for (const Particle& p : ps) snapshot_.push_back(p.position);
+    if (o_.on_frame && o_.frame_every && engine_->steps_done() / o_.frame_every != last_frame_) {
+      last_frame_ = engine_->steps_done() / o_.frame_every;
+      o_.on_frame(engine_->steps_done(), to_particle_set(ps));
+    }
+    if (!history_.empty()) report_particles(engine_->size(), history_.back().kinetic_energy, history_.back().colliding_pairs);
+    return born;
+  }
+
+  /// One newborn at each site with room; returns whether any was born.
+  bool birth_at_sites() {
+    bool any = false;
+    const double clearance = o_.birth_clearance * 2 * radius_;
+    for (const BirthSite& site : sites_) {
+      if (phase_ == "pass 2" && engine_->size() >= result_.max_parts) break;
+      if (!site_has_room(snapshot_, site.position, clearance)) continue;
+      Particle p;
+      p.position = site.position;
+      p.radius = radius_;
+      p.velocity = random_direction() * (top_speed_ * (o_.birth_speed_min + (o_.birth_speed_max - o_.birth_speed_min) * speed_(rng_)));
+      engine_->add_particle(p);
+      snapshot_.push_back(p.position);  // the site stays taken until the next snapshot
+      any = true;
+    }
+    return any;
+  }
+
+  Vec3 random_direction() {
+    std::normal_distribution<double> g(0, 1);
+    for (;;) {
+      const Vec3 v{g(rng_), g(rng_), g(rng_)};
+      const double l = length(v);
+      if (l > 1e-9) return v / l;
+    }
+  }
+
+  void remove_newest() {
+    if (engine_->size() > 0) engine_->remove_particles({engine_->size() - 1});
+  }
+
+  static std::vector<size_t> flagged_of(Engine& e) {
+    std::vector<size_t> out = e.flagged_particles();
+    e.clear_flags();
+    return out;
+  }
+
+  void report(const std::string& phase) {
+    phase_ = phase;
+    report_particles(0, 0, 0);
+  }
+
+  void report_particles(size_t n, double ke, uint32_t pairs) {
+    if (!o_.progress) return;
+    FillProgress p;
+    p.phase = phase_;
+    p.step = (engine_ ? engine_->steps_done() : fill_steps_) + relax_steps_;
+    p.particles = n;
+    p.target = result_.expected;
+    p.kinetic_energy = ke;
+    p.colliding_pairs = pairs;
+    p.elapsed = seconds_since(start_);
+    const double dt = seconds_since(last_report_);
+    if (dt > 0 && p.step >= last_step_) p.steps_per_second = (p.step - last_step_) / dt;
+    last_report_ = Clock::now();
+    last_step_ = p.step;
+    if (phase_ == "pass 1" && n > 10 && p.elapsed > 1) {
+      // Births slow as the object fills; the count so far extrapolates the rest.
+      const double rate = n / std::max(1e-9, p.elapsed - result_.field_seconds);
+      p.remaining = std::max(0.0, (static_cast<double>(result_.expected) - n) / rate) * 1.3;
+    }
+    o_.progress(p);
+  }
+
+  Mesh mesh_;
+  FillOptions o_;
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> speed_{0, 1};
+  Clock::time_point start_ = Clock::now();
+  Clock::time_point last_report_ = Clock::now();
+  uint64_t last_step_ = 0;
+  uint64_t last_frame_ = 0;
+  double volume_ = 0;
+  double radius_ = 0;
+  double top_speed_ = 0;
+  std::unique_ptr<Boundary> boundary_;
+  ScalarGrid field_;
+  std::vector<BirthSite> sites_;
+  std::unique_ptr<Device> device_;
+  EngineParams params_;
+  std::unique_ptr<Engine> engine_;
+  std::vector<StepRecord> history_;
+  std::vector<Vec3> snapshot_;
+  ParticleSet particles_;
+  uint64_t relax_steps_ = 0;
+  uint64_t fill_steps_ = 0;  ///< engine steps of passes 1-3, kept once the engine is gone
+  std::string phase_;
+  FillResult result_;
+};
+
+}  // namespace
+
+double fill_radius_for_count(double volume, size_t count) {
+  if (!(volume > 0) || count == 0) return 0;
+  return std::cbrt(3.0 * kExpectedPacking * volume / (4.0 * kPi * static_cast<double>(count)));
+}
+
+FillResult fill(const Mesh& mesh, const FillOptions& options) {
+  FillRun run(mesh, options);
+  return run.run();
+}
+
+}  // namespace pfill

@@ -1,0 +1,173 @@
+// Exact quality measures of a sphere packing in a mesh, and the final
+// containment repair (see include/pfill/packing_metrics.hpp).
+#include "pfill/packing_metrics.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+#include <tbb/parallel_for.h>
+
+namespace pfill {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A uniform hash grid over sphere centres, for neighbour queries on the host.
+class CentreGrid {
+ public:
+  CentreGrid(const std::vector<Vec3>& centres, double cell) : centres_(centres), inv_(1.0 / cell) {
+    cells_.reserve(centres.size());
+    for (size_t i = 0; i < centres.size(); ++i) cells_[key(cell_of(centres[i]))].push_back(static_cast<uint32_t>(i));
+  }
+
+  /// Calls f(j) for every centre j in the 27 cells around p.
+  template <class F>
+  void for_near(const Vec3& p, F&& f) const {
+    const auto c = cell_of(p);
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
+          if (it == cells_.end()) continue;
+          for (uint32_t j : it->second) f(j);
+        }
+  }
+
+ private:
+  std::array<int64_t, 3> cell_of(const Vec3& p) const {
+    return {static_cast<int64_t>(std::floor(p.x * inv_)), static_cast<int64_t>(std::floor(p.y * inv_)),
+            static_cast<int64_t>(std::floor(p.z * inv_))};
+  }
+  static uint64_t key(const std::array<int64_t, 3>& c) {
+    return (static_cast<uint64_t>(c[0] & 0x1FFFFF) << 42) | (static_cast<uint64_t>(c[1] & 0x1FFFFF) << 21) |
+           static_cast<uint64_t>(c[2] & 0x1FFFFF);
+  }
+  const std::vector<Vec3>& centres_;
+  double inv_;
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
+};
+
+double max_radius(const ParticleSet& p) {
+  double m = 0;
+  for (double r : p.radii) m = std::max(m, r);
+  return m;
+}
+
+}  // namespace
+
+std::vector<Overlap> find_overlaps(const ParticleSet& particles, double min_fraction) {
+  std::vector<Overlap> out;
+  if (particles.size() < 2) return out;
+  const CentreGrid grid(particles.positions, 2 * max_radius(particles));
+  for (size_t i = 0; i < particles.size(); ++i) {
+    grid.for_near(particles.positions[i], [&](uint32_t j) {
+      if (j <= i) return;
+      const double ri = particles.radii[i], rj = particles.radii[j];
+      const double d = length(particles.positions[j] - particles.positions[i]);
+      const double fraction = (ri + rj - d) / (0.5 * (ri + rj));
+      if (fraction > 0 && fraction > min_fraction) out.push_back({static_cast<uint32_t>(i), j, fraction});
+    });
+  }
+  return out;
+}
+
+PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, const ParticleSet& particles,
+                               const MetricsOptions& options) {
+  PackingMetrics m;
+  m.count = particles.size();
+  m.mesh_volume = mesh_volume;
+  m.containment_tolerance = options.containment_tolerance;
+  if (particles.size() == 0) return m;
+
+  double sphere_volume = 0;
+  for (double r : particles.radii) sphere_volume += 4.0 / 3.0 * kPi * r * r * r;
+  m.packing_fraction = mesh_volume > 0 ? sphere_volume / mesh_volume : 0;
+
+  const std::vector<double> sd = boundary.signed_distance(particles.positions);
+  size_t contained = 0;
+  for (size_t i = 0; i < particles.size(); ++i) {
+    const double r = particles.radii[i];
+    const double penetration = (r + sd[i]) / r;  // > 0: the sphere pokes out by this fraction of r
+    if (penetration <= options.containment_tolerance) ++contained;
+    if (sd[i] > 0) ++m.centres_outside;
+    m.max_penetration = std::max(m.max_penetration, penetration);
+  }
+  m.contained_share = static_cast<double>(contained) / particles.size();
+
+  const CentreGrid grid(particles.positions, 2 * max_radius(particles) * (1 + options.contact_gap));
+  size_t contacts = 0;
+  double overlap_sum = 0;
+  for (size_t i = 0; i < particles.size(); ++i) {
+    grid.for_near(particles.positions[i], [&](uint32_t j) {
+      if (j <= i) return;
+      const double ri = particles.radii[i], rj = particles.radii[j], mean_r = 0.5 * (ri + rj);
+      const double d = length(particles.positions[j] - particles.positions[i]);
+      if (d < ri + rj + options.contact_gap * mean_r) ++contacts;
+      const double fraction = (ri + rj - d) / mean_r;
+      if (fraction > 0) {
+        ++m.overlapping_pairs;
+        overlap_sum += fraction;
+        m.max_overlap = std::max(m.max_overlap, fraction);
+      }
+    });
+  }
+  m.mean_overlap = m.overlapping_pairs ? overlap_sum / m.overlapping_pairs : 0;
+  m.mean_coordination = 2.0 * contacts / particles.size();
+  return m;
+}
+
+ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& particles, double tolerance,
+                                     double max_overlap) {
+  ContainmentRepair result;
+  if (particles.size() == 0) return result;
+  const std::vector<double> sd = boundary.signed_distance(particles.positions);
+  std::vector<size_t> crossing;
+  for (size_t i = 0; i < particles.size(); ++i)
+    if (particles.radii[i] + sd[i] > tolerance * particles.radii[i]) crossing.push_back(i);
+  if (crossing.empty()) return result;
+
+  std::vector<bool> remove(particles.size(), false);
+  std::vector<Vec3> moved_to(crossing.size());
+  tbb::parallel_for(size_t(0), crossing.size(), [&](size_t k) {
+    const size_t i = crossing[k];
+    const ClosestPoint c = boundary.closest(particles.positions[i]);
+    // The outward normal points out of the solid from the closest point.
+    moved_to[k] = c.point - c.normal * particles.radii[i];
+  });
+  for (size_t k = 0; k < crossing.size(); ++k) {
+    const size_t i = crossing[k];
+    const Vec3 p = moved_to[k];
+    const double depth = -boundary.signed_distance(p);
+    if (!(depth >= particles.radii[i] * (1 - tolerance))) {
+      remove[i] = true;  // no room: the part is thinner than the sphere here
+      continue;
+    }
+    particles.positions[i] = p;
+  }
+  // A moved sphere that now overlaps too much gives way.
+  for (const Overlap& o : find_overlaps(particles, max_overlap)) {
+    const bool i_moved = std::binary_search(crossing.begin(), crossing.end(), o.i);
+    const bool j_moved = std::binary_search(crossing.begin(), crossing.end(), o.j);
+    if (i_moved && !remove[o.i]) remove[o.i] = true;
+    else if (j_moved && !remove[o.j]) remove[o.j] = true;
+  }
+  ParticleSet kept;
+  for (size_t i = 0; i < particles.size(); ++i) {
+    if (remove[i]) {
+      ++result.removed;
+      continue;
+    }
+    kept.positions.push_back(particles.positions[i]);
+    kept.radii.push_back(particles.radii[i]);
+    if (!particles.colours.empty()) kept.colours.push_back(particles.colours[i]);
+    if (!particles.velocities.empty()) kept.velocities.push_back(particles.velocities[i]);
+  }
+  result.moved = 0;
+  for (size_t i : crossing)
+    if (!remove[i]) ++result.moved;
+  particles = std::move(kept);
+  return result;
+}
+
+}  // namespace pfill
