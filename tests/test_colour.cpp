@@ -283,7 +283,7 @@ TEST_CASE("corner colours, texture and material factor multiply") {
   CHECK(colour_difference(transfer_one(boundary, below_top_face(0.25, 0.75)), reference_rgb8({0, 0, 0.25})) <= 1);
 }
 
-TEST_CASE("a material without texture colours by its factor; triangles pick their own material") {
+TEST_CASE("a material without texture colours by its factor and triangles pick their own material") {
   Mesh cube = make_cube(1.0, 1);
   Material red, blue;
   red.base_colour_factor = {1, 0, 0, 1};
@@ -387,7 +387,7 @@ TEST_CASE("bad input: texture without UVs, a texture that cannot be decoded") {
   }
 }
 
-TEST_CASE("depth: colours grow lighter from the surface inward; fallback, constant and none") {
+TEST_CASE("depth: colours grow lighter from the surface inward (and fallback, constant, none)") {
   const Boundary boundary(make_cube(1.0, 2));
   std::vector<Vec3> line;
   for (int i = 0; i <= 40; ++i) line.push_back({0.999 - i * 0.0249, 0.1, -0.05});  // from the +x face inward
