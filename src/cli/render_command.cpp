@@ -9,6 +9,8 @@
 #include <unistd.h>
 
 #include "cli/commands.hpp"
+#include "pfill/boundary.hpp"
+#include "pfill/colour.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/error.hpp"
 #include "pfill/particle_io.hpp"
@@ -27,6 +29,7 @@ struct RenderArguments {
   std::string view = "three-quarter";
   std::string size = "1024x768";
   std::string cut;
+  std::string colour;  // empty: keep the file's colours
   std::string frame_camera = "union";
   double radius = 0;
   int samples = 2;
@@ -50,15 +53,49 @@ void parse_size(const std::string& text, RenderOptions& options) {
   options.height = h;
 }
 
+// `--colour`: recolours each particle set before it is drawn. Surface and
+// depth need the mesh (its Boundary is built once, for all frames).
+class Recolour {
+ public:
+  Recolour(const std::string& text, const Mesh* shell) {
+    if (text.empty()) return;
+    options_ = parse_colour_option(text);
+    const bool needs_mesh = options_->mode == ColourMode::Surface || options_->mode == ColourMode::Depth;
+    if (needs_mesh && !shell)
+      throw Error("--colour " + text + " colours from the mesh: give it with --mesh (or use none or #RRGGBB)");
+    if (needs_mesh) boundary_ = std::make_unique<Boundary>(*shell);
+  }
+
+  void apply(ParticleSet& particles) {
+    if (!options_) return;
+    if (options_->mode == ColourMode::None) {
+      particles.colours.clear();
+    } else if (options_->mode == ColourMode::Constant) {
+      particles.colours.assign(particles.size(), options_->constant);
+    } else {
+      const std::string note = colour_particles(*boundary_, particles, *options_);
+      if (!note.empty() && !noted_) std::fprintf(stderr, "pfill render: note: %s\n", note.c_str());
+      noted_ = noted_ || !note.empty();
+    }
+  }
+
+ private:
+  std::optional<ColourOptions> options_;
+  std::unique_ptr<Boundary> boundary_;
+  bool noted_ = false;  // say a fallback once, not once per frame
+};
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 void render_file(const RenderArguments& args, const RenderOptions& options, const Mesh* shell) {
   const auto start = std::chrono::steady_clock::now();
+  Recolour recolour(args.colour, shell);
   ParticleReadOptions read;
   read.default_radius = args.radius;
-  const ParticleSet particles = read_particles(args.input, read);
+  ParticleSet particles = read_particles(args.input, read);
+  recolour.apply(particles);
   write_png(render(particles, shell, options), args.output);
   std::fprintf(stderr, "pfill render: wrote %s (%dx%d, %zu particles, %.2f s)\n", args.output.c_str(),
                options.width, options.height, particles.size(), seconds_since(start));
@@ -70,6 +107,7 @@ void render_frames(const RenderArguments& args, RenderOptions options, const Mes
   const auto start = std::chrono::steady_clock::now();
   const std::vector<fs::path> frames = list_frames(args.input);
   if (frames.empty()) throw Error("'" + args.input + "' holds no frame_*.ply files (write them with --frames)");
+  Recolour recolour(args.colour, shell);
   std::error_code ec;
   fs::create_directories(args.output, ec);
   if (!fs::is_directory(args.output))
@@ -96,7 +134,9 @@ void render_frames(const RenderArguments& args, RenderOptions options, const Mes
   const bool terminal = ::isatty(::fileno(stderr)) != 0;
   for (size_t i = 0; i < frames.size(); ++i) {
     const fs::path out = fs::path(args.output) / (frames[i].stem().string() + ".png");
-    write_png(render(read_particles(frames[i], read), shell, options), out);
+    ParticleSet particles = read_particles(frames[i], read);
+    recolour.apply(particles);
+    write_png(render(particles, shell, options), out);
     std::fprintf(stderr, terminal ? "\rpfill render: %zu/%zu %s" : "pfill render: %zu/%zu %s\n", i + 1,
                  frames.size(), out.filename().c_str());
   }
@@ -121,6 +161,9 @@ void add_render_command(CLI::App& app) {
   command->add_option("--size", args->size, "Picture size in pixels, WIDTHxHEIGHT")->capture_default_str();
   command->add_option("--cut", args->cut,
                       "Cut the object open: remove spheres with centre beyond x|y|z=VALUE (default the centre)");
+  command->add_option("--colour", args->colour,
+                      "Recolour the particles: surface (from --mesh: its colours or texture), depth (distance "
+                      "to --mesh), none, or #RRGGBB; default: keep the file's colours");
   command->add_option("--radius", args->radius, "Radius for particle files that have none");
   command->add_option("--samples", args->samples, "Anti-aliasing: N x N samples per pixel (1..8)")
       ->capture_default_str();
