@@ -1,8 +1,14 @@
 // Signed distance field: narrow-band build against exact queries, sampling,
 // gradient, sign everywhere, and the size/time report.
+#include <assimp/cimport.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <map>
 #include <limits>
 #include <random>
 
@@ -32,6 +38,36 @@ Vec3 torus_normal(const Vec3& p, double R) {
   const double rho = std::hypot(p.x, p.y);
   const Vec3 core(R * p.x / rho, R * p.y / rho, 0.0);
   return normalize(p - core);
+}
+
+// Reads a shared mesh through assimp (the loaders part's load_mesh is not
+// used here so that this test stands on its own); empty if absent.
+Mesh read_shared_mesh(const std::string& name) {
+  const std::filesystem::path path = std::filesystem::path(PFILL_SHARED_MESHES) / name;
+  Mesh mesh;
+  if (!std::filesystem::exists(path)) return mesh;
+  const aiScene* scene = aiImportFile(path.string().c_str(), aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  REQUIRE(scene != nullptr);
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    const uint32_t base = static_cast<uint32_t>(mesh.positions.size());
+    for (unsigned v = 0; v < am->mNumVertices; ++v)
+      mesh.positions.push_back({am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z});
+    for (unsigned f = 0; f < am->mNumFaces; ++f)
+      if (am->mFaces[f].mNumIndices == 3)
+        mesh.triangles.push_back({base + am->mFaces[f].mIndices[0], base + am->mFaces[f].mIndices[1],
+                                  base + am->mFaces[f].mIndices[2]});
+  }
+  aiReleaseImport(scene);
+  weld_vertices(mesh);
+  mesh.source = path.string();
+  return mesh;
+}
+
+double distance_to_segment(const Vec3& p, const Vec3& a, const Vec3& b) {
+  const Vec3 e = b - a;
+  const double t = std::clamp(dot(p - a, e) / dot(e, e), 0.0, 1.0);
+  return length(p - (a + e * t));
 }
 
 }  // namespace
@@ -205,4 +241,46 @@ TEST_CASE("field options and grids are checked") {
   const Boundary sphere(make_icosphere(1.0, 2));
   const ScalarGrid g = build_signed_distance_field(sphere, SdfOptions{spacing_for_resolution(sphere.mesh().bounds(), 40)});
   CHECK(std::max({g.dims[0], g.dims[1], g.dims[2]}) == 40);
+}
+
+TEST_CASE("bunny with 5 holes: inside() and field signs right away from the holes") {
+  Mesh open = read_shared_mesh("stanford-bunny.obj");
+  const Mesh closed = read_shared_mesh("stanford-bunny-closed.obj");
+  if (open.triangles.empty() || closed.triangles.empty()) {
+    MESSAGE("shared meshes absent: skipped");
+    return;
+  }
+  // The closed bunny is the open one with its holes filled, centred and
+  // scaled to diagonal 1: map the open one onto it.
+  const Box3 a = open.bounds(), b = closed.bounds();
+  const double scale = b.diagonal() / a.diagonal();
+  for (Vec3& p : open.positions) p = b.centre() + (p - a.centre()) * scale;
+  const Boundary holed(open), filled(closed);
+  CHECK(!holed.closed());
+  CHECK(filled.closed());
+  // The rims of the holes.
+  std::map<std::pair<uint32_t, uint32_t>, int> edge_faces;
+  for (const Triangle& t : open.triangles)
+    for (int k = 0; k < 3; ++k) ++edge_faces[std::minmax(t[k], t[(k + 1) % 3])];
+  std::vector<std::pair<Vec3, Vec3>> rim;
+  for (const auto& [edge, faces] : edge_faces)
+    if (faces == 1) rim.push_back({open.positions[edge.first], open.positions[edge.second]});
+  CHECK(rim.size() > 50);
+
+  const ScalarGrid field = build_signed_distance_field(holed, SdfOptions{spacing_for_resolution(b, 64)});
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  int checked = 0;
+  for (int n = 0; n < 3000; ++n) {
+    const Vec3 p = b.lo + Vec3(u(rng) * (b.hi.x - b.lo.x), u(rng) * (b.hi.y - b.lo.y), u(rng) * (b.hi.z - b.lo.z));
+    const double truth = filled.signed_distance(p);
+    if (std::fabs(truth) < 0.02) continue;  // the field's cells are ~0.01
+    double to_rim = HUGE_VAL;
+    for (const auto& [r0, r1] : rim) to_rim = std::min(to_rim, distance_to_segment(p, r0, r1));
+    if (to_rim < 0.05) continue;  // within 5% of the diagonal of a hole
+    CHECK(holed.inside(p) == (truth < 0));
+    CHECK((sample(field, p) < 0) == (truth < 0));
+    ++checked;
+  }
+  CHECK(checked > 2000);
 }

@@ -10,7 +10,10 @@
 /// coarser level). The build refines an octree of grid cells top-down: a
 /// cell whose corner distances prove it lies wholly farther than `band` from
 /// the surface (1-Lipschitz bound) is filled by interpolation, every other
-/// cell is split until single grid cells, whose corners get exact values.
+/// cell is split until single grid cells, whose corners get exact values
+/// (except corners that the parent's corners already prove to lie outside
+/// the band: those are interpolated too). Exact work is thus ~1.2x the
+/// number of grid points within the band.
 /// Signs: ray-parity majority vote on the coarsest level (robust to small
 /// holes), the closest feature's pseudonormal below it where the mesh is
 /// closed (Boundary::fast_signed_distance), and a whole deep cell shares

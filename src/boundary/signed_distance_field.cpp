@@ -48,9 +48,9 @@ class FieldBuilder {
 
   void run(const std::function<void(double)>& progress, SdfStats& stats) {
     const int longest = std::max({grid_.dims[0], grid_.dims[1], grid_.dims[2]});
-    // Coarsest level: cells of 2^levels grid spacings, about 16-32 per axis.
+    // Coarsest level: cells of 2^levels grid spacings, about 8-16 per axis.
     int levels = 0;
-    while (((longest - 1) >> (levels + 1)) >= 16) ++levels;
+    while (((longest - 1) >> (levels + 1)) >= 8) ++levels;
     stats.levels = levels;
 
     // Exact values with ray-parity signs on the coarsest lattice: these signs
@@ -115,6 +115,23 @@ class FieldBuilder {
     for (int n = 0; n < 8; ++n)
       v[n] = grid_.at(n & 1 ? hi[0] : c.i, n & 2 ? hi[1] : c.j, n & 4 ? hi[2] : c.k);
     return v;
+  }
+
+  static bool same_sign(const std::array<float, 8>& v) {
+    for (float x : v)
+      if ((x > 0) != (v[0] > 0) || x == 0) return false;
+    return true;
+  }
+
+  // Deep value: trilinear in the corners (all of one sign), magnitude at
+  // least the band.
+  float trilinear_outside_band(const std::array<float, 8>& v, double fx, double fy, double fz) const {
+    const double x00 = v[0] + (v[1] - v[0]) * fx, x10 = v[2] + (v[3] - v[2]) * fx;
+    const double x01 = v[4] + (v[5] - v[4]) * fx, x11 = v[6] + (v[7] - v[6]) * fx;
+    const double y0 = x00 + (x10 - x00) * fy, y1 = x01 + (x11 - x01) * fy;
+    const double value = y0 + (y1 - y0) * fz;
+    const float band = static_cast<float>(std::min(band_, 1e30));
+    return (v[0] > 0 ? 1.0f : -1.0f) * std::max(static_cast<float>(std::fabs(value)), band);
   }
 
   // True when the corner distances prove that the whole cell lies farther
@@ -187,11 +204,21 @@ class FieldBuilder {
           const size_t index = grid_.index(i, j, k);
           if (exact_.test(index)) continue;
           exact_.set(index);
-          double bound = HUGE_VAL;
+          double bound = HUGE_VAL, lower = 0;
           for (int n = 0; n < 8; ++n) {
             const double dx = (n & 1 ? hi[0] : c.i) - i, dy = (n & 2 ? hi[1] : c.j) - j,
                          dz = (n & 4 ? hi[2] : c.k) - k;
-            bound = std::min(bound, std::fabs(v[n]) + grid_.spacing * std::sqrt(dx * dx + dy * dy + dz * dz));
+            const double to_corner = grid_.spacing * std::sqrt(dx * dx + dy * dy + dz * dz);
+            bound = std::min(bound, std::fabs(v[n]) + to_corner);
+            lower = std::max(lower, std::fabs(v[n]) - to_corner);
+          }
+          // On the last level nothing refines further, so a point proven
+          // outside the band needs no exact value: interpolate it.
+          if (!children && lower >= band_ && same_sign(v)) {
+            grid_.values[index] = trilinear_outside_band(v, (i - c.i) / double(hi[0] - c.i),
+                                                         (j - c.j) / double(hi[1] - c.j),
+                                                         (k - c.k) / double(hi[2] - c.k));
+            continue;
           }
           pending.push_back({index, static_cast<float>(bound)});
         }
