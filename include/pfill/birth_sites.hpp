@@ -15,12 +15,15 @@ struct BirthSite {
   double depth = 0;  ///< distance to the surface (from the field)
 };
 
-/// The deepest grid point, then, `count - 1` times, the deepest grid point at
-/// least `separation` times the first site's depth from every site chosen so
-/// far (fewer if none is left that deep). Sites shallower than `min_depth`
-/// are never chosen; the result is empty when the field has no such point.
+/// The deepest grid point, then, `count - 1` times, the grid point farthest
+/// from all sites chosen so far among the points at least `depth_share` as
+/// deep as the deepest (farthest-point sampling of the deep core: sites
+/// spread over the object's main rooms, e.g. round a torus, while staying
+/// deep). A site is never within twice the deepest depth of another (fewer
+/// sites then) nor shallower than `min_depth`; the result is empty when the
+/// field has no point that deep.
 std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, double min_depth,
-                                          double separation = 2.0);
+                                          double depth_share = 0.75);
 
 /// True when no centre in `centres` lies closer than `clearance` to `site`.
 bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double clearance);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "pfill/birth_sites.hpp"
+#include "pfill/colour.hpp"
 #include "pfill/mesh.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/particles.hpp"
@@ -51,7 +52,7 @@ struct FillOptions {
   std::optional<Vec3> birth_point;  ///< overrides the first site
   double birth_speed_min = 0.2; ///< newborn speed range, as fractions of the top speed
   double birth_speed_max = 0.5;
-  double birth_clearance = 1.0; ///< a site has room when no centre is within this times 2r
+  double birth_clearance = 0.5; ///< a site has room when no centre is within this times 2r (measured on spot and a torus: 0.5 packs densest)
   uint64_t seed = 1;
 
   // Pass 1 stopping.
@@ -65,12 +66,16 @@ struct FillOptions {
   int top_up_patience = 1500;   ///< pass 2 gives up after this many steps without a birth
   double rest_speed = 0.02;     ///< at rest: top speed below this fraction of the speed cap ...
   int rest_steps = 200;         ///< ... for this many steps
-  uint64_t settle_budget = 20000;
+  uint64_t settle_budget = 5000;
   double max_overlap = 0.05;    ///< overlap bound after relief, fraction of r
   double relief_fraction = 0.02;///< share of overlapping spheres removed per relief round
   int relief_steps = 300;       ///< damped relaxation steps per relief round
   int max_relief_rounds = 80;
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
+
+  // Colour: from the surface (vertex colours, texture), by depth, none, or
+  // one colour. Empty: surface when the mesh has colours, else none.
+  std::optional<ColourOptions> colour;
 
   // Machinery.
   double field_spacing = 0.33;  ///< signed distance grid spacing, in radii

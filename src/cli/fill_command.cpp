@@ -35,6 +35,7 @@ struct FillArgs {
   std::string birth;
   std::string exponents = "12,6";
   std::string stop = "blocked";
+  std::string colour;
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
@@ -135,6 +136,7 @@ void run_fill(FillArgs& a) {
   if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
   parse_exponents(a.exponents, a.options);
   a.options.stop = parse_stop_criterion(a.stop);
+  if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
   if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
 
   ProgressPrinter printer(a.quiet);
@@ -220,6 +222,9 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap left after relief, fraction of r")
       ->capture_default_str();
+  cmd->add_option("--colour", a->colour,
+                  "Particle colours: surface (the mesh's colours/texture), depth, none or #RRGGBB "
+                  "(default: surface when the mesh has colours, else none)");
   cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
   cmd->add_option("--report", a->report, "Write the metrics and the run's figures as JSON to this file");
   cmd->add_option("--preview", a->preview, "Render the result, cut open, to this PNG");

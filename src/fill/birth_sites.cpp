@@ -6,25 +6,38 @@
 
 namespace pfill {
 
-std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, double min_depth, double separation) {
+std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, double min_depth, double depth_share) {
   std::vector<BirthSite> sites;
-  // Candidates: every grid point deep enough, deepest first.
-  std::vector<size_t> order;
+  size_t deepest = sdf.values.size();
   for (size_t i = 0; i < sdf.values.size(); ++i)
-    if (-sdf.values[i] >= min_depth) order.push_back(i);
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    return sdf.values[a] < sdf.values[b] || (sdf.values[a] == sdf.values[b] && a < b);
-  });
+    if (deepest == sdf.values.size() || sdf.values[i] < sdf.values[deepest]) deepest = i;
+  if (deepest == sdf.values.size() || -sdf.values[deepest] < min_depth) return sites;
+
   const int nx = sdf.dims[0], ny = sdf.dims[1];
-  for (size_t idx : order) {
-    if (static_cast<int>(sites.size()) >= count) break;
-    const int i = static_cast<int>(idx % nx), j = static_cast<int>((idx / nx) % ny),
-              k = static_cast<int>(idx / (static_cast<size_t>(nx) * ny));
-    const Vec3 p = sdf.point(i, j, k);
-    const double far_enough = sites.empty() ? 0 : separation * sites.front().depth;
-    const bool clear = std::all_of(sites.begin(), sites.end(),
-                                   [&](const BirthSite& s) { return length(s.position - p) >= far_enough; });
-    if (clear) sites.push_back({p, -static_cast<double>(sdf.values[idx])});
+  auto point = [&](size_t idx) {
+    return sdf.point(static_cast<int>(idx % nx), static_cast<int>((idx / nx) % ny),
+                     static_cast<int>(idx / (static_cast<size_t>(nx) * ny)));
+  };
+  const double max_depth = -static_cast<double>(sdf.values[deepest]);
+  sites.push_back({point(deepest), max_depth});
+
+  // The deep core, and each candidate's distance to the nearest chosen site.
+  std::vector<size_t> core;
+  const double floor_depth = std::max(min_depth, depth_share * max_depth);
+  for (size_t i = 0; i < sdf.values.size(); ++i)
+    if (-sdf.values[i] >= floor_depth) core.push_back(i);
+  std::vector<double> nearest(core.size());
+  for (size_t k = 0; k < core.size(); ++k) nearest[k] = length(point(core[k]) - sites[0].position);
+  while (static_cast<int>(sites.size()) < count) {
+    size_t best = core.size();
+    for (size_t k = 0; k < core.size(); ++k)
+      if (best == core.size() || nearest[k] > nearest[best] ||
+          (nearest[k] == nearest[best] && sdf.values[core[k]] < sdf.values[core[best]]))
+        best = k;
+    if (best == core.size() || nearest[best] < 2 * max_depth) break;  // no room for another site
+    const Vec3 p = point(core[best]);
+    sites.push_back({p, -static_cast<double>(sdf.values[core[best]])});
+    for (size_t k = 0; k < core.size(); ++k) nearest[k] = std::min(nearest[k], length(point(core[k]) - p));
   }
   return sites;
 }

@@ -321,6 +321,9 @@ class FillRun {
     MetricsOptions mo;
     mo.containment_tolerance = o_.containment_tolerance;
     result_.metrics = measure_packing(*boundary_, volume_, particles_, mo);
+    ColourOptions colour = o_.colour ? *o_.colour : ColourOptions{default_colour_mode(mesh_), {}};
+    const std::string note = colour_particles(*boundary_, particles_, colour);
+    if (!note.empty()) result_.warnings.push_back(note);
     result_.particles = std::move(particles_);
   }
 

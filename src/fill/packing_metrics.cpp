@@ -12,6 +12,8 @@ namespace pfill {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
+// Spheres that touch to within rounding do not overlap.
+constexpr double kTouching = 1e-9;
 
 // A uniform hash grid over sphere centres, for neighbour queries on the host.
 class CentreGrid {
@@ -66,7 +68,7 @@ std::vector<Overlap> find_overlaps(const ParticleSet& particles, double min_frac
       const double ri = particles.radii[i], rj = particles.radii[j];
       const double d = length(particles.positions[j] - particles.positions[i]);
       const double fraction = (ri + rj - d) / (0.5 * (ri + rj));
-      if (fraction > 0 && fraction > min_fraction) out.push_back({static_cast<uint32_t>(i), j, fraction});
+      if (fraction > kTouching && fraction > min_fraction) out.push_back({static_cast<uint32_t>(i), j, fraction});
     });
   }
   return out;
@@ -105,7 +107,7 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
       const double d = length(particles.positions[j] - particles.positions[i]);
       if (d < ri + rj + options.contact_gap * mean_r) ++contacts;
       const double fraction = (ri + rj - d) / mean_r;
-      if (fraction > 0) {
+      if (fraction > kTouching) {
         ++m.overlapping_pairs;
         overlap_sum += fraction;
         m.max_overlap = std::max(m.max_overlap, fraction);
@@ -146,11 +148,13 @@ ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& part
     particles.positions[i] = p;
   }
   // A moved sphere that now overlaps too much gives way.
+  // When both moved, the one that was further out gives way.
   for (const Overlap& o : find_overlaps(particles, max_overlap)) {
+    if (remove[o.i] || remove[o.j]) continue;
     const bool i_moved = std::binary_search(crossing.begin(), crossing.end(), o.i);
     const bool j_moved = std::binary_search(crossing.begin(), crossing.end(), o.j);
-    if (i_moved && !remove[o.i]) remove[o.i] = true;
-    else if (j_moved && !remove[o.j]) remove[o.j] = true;
+    if (i_moved && (!j_moved || sd[o.i] >= sd[o.j])) remove[o.i] = true;
+    else if (j_moved) remove[o.j] = true;
   }
   ParticleSet kept;
   for (size_t i = 0; i < particles.size(); ++i) {

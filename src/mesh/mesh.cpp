@@ -16,7 +16,9 @@ struct CellKey {
 };
 struct CellKeyHash {
   size_t operator()(const CellKey& k) const {
-    return static_cast<size_t>(k.x * 73856093LL ^ k.y * 19349663LL ^ k.z * 83492791LL);
+    // Unsigned: the keys may be any 64-bit pattern, and signed overflow is undefined.
+    return static_cast<size_t>(static_cast<uint64_t>(k.x) * 73856093u ^ static_cast<uint64_t>(k.y) * 19349663u ^
+                               static_cast<uint64_t>(k.z) * 83492791u);
   }
 };
 

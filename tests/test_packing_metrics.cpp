@@ -1,0 +1,87 @@
+// Packing metrics and the containment repair on configurations whose
+// answers are known.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "pfill/mesh_diagnostics.hpp"
+#include "pfill/packing_metrics.hpp"
+#include "pfill/shapes.hpp"
+
+using namespace pfill;
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+ParticleSet spheres(std::initializer_list<Vec3> centres, double r) {
+  ParticleSet s;
+  for (const Vec3& c : centres) {
+    s.positions.push_back(c);
+    s.radii.push_back(r);
+  }
+  return s;
+}
+}  // namespace
+
+TEST_CASE("packing fraction, containment and overlap of a known pair in a cube") {
+  const Mesh cube = make_cube(1.0, 2);
+  const Boundary b(cube);
+  // Two spheres of r = 0.2 overlapping by 0.04 (20% of r), well inside.
+  const ParticleSet s = spheres({{0, 0, 0}, {0.36, 0, 0}}, 0.2);
+  const PackingMetrics m = measure_packing(b, 8.0, s);
+  CHECK(m.count == 2);
+  CHECK(m.packing_fraction == doctest::Approx(2 * 4.0 / 3.0 * kPi * 0.008 / 8.0));
+  CHECK(m.contained_share == 1.0);
+  CHECK(m.max_penetration <= 0);
+  CHECK(m.overlapping_pairs == 1);
+  CHECK(m.max_overlap == doctest::Approx(0.2));
+  CHECK(m.mean_overlap == doctest::Approx(0.2));
+  CHECK(m.mean_coordination == doctest::Approx(1.0));
+}
+
+TEST_CASE("a sphere poking out of the surface is counted and measured") {
+  const Boundary b(make_cube(1.0, 1));
+  // Centre 0.1 from the +x face, r = 0.2: it pokes out by 0.1 = 50% of r.
+  const ParticleSet s = spheres({{0.9, 0, 0}, {0, 0, 0}, {1.05, 0, 0}}, 0.2);
+  const PackingMetrics m = measure_packing(b, 8.0, s);
+  CHECK(m.contained_share == doctest::Approx(1.0 / 3.0));
+  CHECK(m.centres_outside == 1);
+  CHECK(m.max_penetration == doctest::Approx(1.25));  // (0.2 + 0.05) / 0.2
+}
+
+TEST_CASE("simple cubic lattice: coordination 6 inside, no overlaps, exact touching counts as contact") {
+  ParticleSet s;
+  const double r = 0.1;
+  for (int i = 0; i < 5; ++i)
+    for (int j = 0; j < 5; ++j)
+      for (int k = 0; k < 5; ++k) {
+        s.positions.push_back(Vec3(i, j, k) * (2 * r) - Vec3(0.4, 0.4, 0.4));
+        s.radii.push_back(r);
+      }
+  const PackingMetrics m = measure_packing(Boundary(make_cube(1.0, 1)), 8.0, s);
+  CHECK(m.overlapping_pairs == 0);
+  // 3 * 5 * 5 * 4 bonds among 125 spheres.
+  CHECK(m.mean_coordination == doctest::Approx(2.0 * 300 / 125));
+  CHECK(find_overlaps(s).empty());
+}
+
+TEST_CASE("repair_containment moves crossing spheres inside and removes those with no room") {
+  const Boundary b(make_cube(1.0, 2));
+  ParticleSet s = spheres({{0.95, 0.1, 0.2}, {0, 0, 0}, {1.5, 0, 0}}, 0.2);
+  s.colours = {{1, 2, 3}, {4, 5, 6}, {7, 8, 9}};
+  const ContainmentRepair rep = repair_containment(b, s, 0.01, 0.05);
+  // The first moves to x = 0.8; the third (centre outside) lands at x = 0.8
+  // too, on the first one's spot: it overlaps and gives way.
+  CHECK(rep.moved == 1);
+  CHECK(rep.removed == 1);
+  REQUIRE(s.size() == 2);
+  CHECK(s.positions[0].x == doctest::Approx(0.8));
+  CHECK(s.colours[0] == Rgb8{1, 2, 3});
+  const PackingMetrics m = measure_packing(b, 8.0, s);
+  CHECK(m.contained_share == 1.0);
+
+  // A sphere bigger than the part: no place inside, removed.
+  ParticleSet big = spheres({{0.5, 0, 0}}, 1.5);
+  CHECK(repair_containment(b, big, 0.01, 0.05).removed == 1);
+  CHECK(big.size() == 0);
+}
