@@ -135,7 +135,7 @@ Mesh load_smf(const std::string& path) {
       }
   }
 
-  if (mesh.triangles.empty()) throw Error(path + ": no faces ('f' lines) found; pfill needs triangles");
+  if (mesh.triangles.empty()) throw Error(path + ": no triangles: the file has no faces ('f' lines); pfill needs a triangle surface");
   validate(mesh);
   return mesh;
 }
