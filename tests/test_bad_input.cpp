@@ -3,6 +3,7 @@
 // error or a valid mesh, never a crash.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <limits>
@@ -197,7 +198,9 @@ TEST_CASE("fuzz: truncated and corrupted files give pfill::Error or a valid mesh
         CHECK(m.triangle_count() > 0);
         ++loaded;
       } catch (const Error& e) {
-        CHECK(std::string(e.what()).find(path) != std::string::npos);
+        const std::string message = e.what();
+        CHECK(message.find(path) != std::string::npos);
+        CHECK(std::none_of(message.begin(), message.end(), [](char c) { return c == '\n' || c == '\r' || c == '\0'; }));
         ++rejected;
       } catch (const std::exception& e) {
         FAIL("not a pfill::Error: " << e.what());
