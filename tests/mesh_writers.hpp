@@ -248,6 +248,7 @@ class GltfBuilder {
 
   /// Saves as .gltf (buffers embedded as data URIs) or .glb; false on failure.
   bool save(const std::string& path, bool binary) {
+    if (model_.buffers.size() == 1 && model_.buffers[0].data.empty()) model_.buffers.clear();  // no geometry
     tinygltf::TinyGLTF writer;
     return writer.WriteGltfSceneToFile(&model_, path, true, true, !binary, binary);
   }

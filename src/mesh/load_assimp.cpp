@@ -1,13 +1,17 @@
 // Reader of OBJ, STL, PLY, OFF, FBX, DAE, 3DS and every other format assimp
 // imports: triangulated by assimp, node transforms applied here, all meshes
 // merged into one pfill::Mesh.
+#include <assimp/DefaultLogger.hpp>
 #include <assimp/Importer.hpp>
+#include <assimp/LogStream.hpp>
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <cstring>
+#include <fstream>
 #include <map>
+#include <mutex>
 
 #include "mesh/load_support.hpp"
 #include "pfill/error.hpp"
@@ -28,6 +32,46 @@ WrapMode wrap_mode(int assimp_mode) {
     case aiTextureMapMode_Mirror: return WrapMode::MirroredRepeat;
     default: return WrapMode::Repeat;
   }
+}
+
+// Some assimp readers repair bad input and only log it (the OFF reader clamps
+// an out-of-range index to the last vertex). While one import runs, this
+// collects assimp's error messages so that such repairs become errors. The
+// assimp logger is process-wide, hence the lock around each import.
+class ImportErrorLog : public Assimp::LogStream {
+ public:
+  ImportErrorLog() {
+    Assimp::DefaultLogger::create(nullptr, Assimp::Logger::NORMAL, 0);
+    Assimp::DefaultLogger::get()->attachStream(this, Assimp::Logger::Err);
+  }
+  ~ImportErrorLog() override {
+    Assimp::DefaultLogger::get()->detachStream(this, Assimp::Logger::Err);
+    Assimp::DefaultLogger::kill();
+  }
+  ImportErrorLog(const ImportErrorLog&) = delete;
+  ImportErrorLog& operator=(const ImportErrorLog&) = delete;
+
+  void write(const char* message) override {
+    if (messages_.size() < 8) messages_.emplace_back(message ? message : "");
+  }
+  /// The first error that reports a repaired index, or "".
+  std::string index_repair() const {
+    for (std::string m : messages_)
+      if (m.find("out of range") != std::string::npos || m.find("out of bounds") != std::string::npos) {
+        while (!m.empty() && (m.back() == '\n' || m.back() == ' ')) m.pop_back();
+        if (m.rfind("Error, T", 0) == 0 && m.find(": ") != std::string::npos) m.erase(0, m.find(": ") + 2);
+        return m;
+      }
+    return "";
+  }
+
+ private:
+  std::vector<std::string> messages_;
+};
+
+std::mutex& assimp_import_lock() {
+  static std::mutex lock;
+  return lock;
 }
 
 class AssimpReader {
@@ -195,6 +239,11 @@ class AssimpReader {
 
 Mesh load_with_assimp(const std::string& path) {
   detail::require_readable_file(path);
+  {  // assimp's PLY reader trusts its input; check PLY files (found by content, as assimp finds them) first
+    std::ifstream in(path, std::ios::binary);
+    char magic[3] = {};
+    if (in.read(magic, 3) && std::memcmp(magic, "ply", 3) == 0) detail::check_ply_structure(path);
+  }
   Assimp::Importer importer;
   // Drop points and lines; pfill fills the volume a triangle surface bounds.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
@@ -202,10 +251,22 @@ Mesh load_with_assimp(const std::string& path) {
   const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
                          aiProcess_FlipUVs /* v = 0 at the top, as glTF and pfill::Texture */ |
                          aiProcess_ValidateDataStructure;
-  const aiScene* scene = importer.ReadFile(path, flags);
+  const aiScene* scene = nullptr;
+  {
+    std::lock_guard<std::mutex> hold(assimp_import_lock());
+    ImportErrorLog log;
+    scene = importer.ReadFile(path, flags);
+    if (const std::string repair = log.index_repair(); !repair.empty())
+      throw Error(path + ": index out of range (" + repair + "); repair or re-export the mesh");
+  }
   if (!scene) {
     std::string why = importer.GetErrorString();
     for (char& c : why) if (c == '\n') c = ' ';
+    // Files with no faces at all (or only points and lines, which we drop) fail
+    // assimp's validation; say it plainly.
+    if (why.find("no faces") != std::string::npos || why.find("mNumMeshes is 0") != std::string::npos ||
+        why.find("No meshes remaining") != std::string::npos)
+      throw Error(path + ": no triangles found (" + why + "); the file is empty, truncated or has no faces");
     throw Error(path + ": cannot be read (" + (why.empty() ? std::string("unknown reason") : why) + ")");
   }
   if (!scene->mRootNode || scene->mNumMeshes == 0 || !scene->mMeshes)

@@ -31,6 +31,30 @@ Mesh read_by_extension(const std::string& path, const std::string& extension) {
               "'; supported: " + list + " and the other formats assimp reads");
 }
 
+// Messages quote file contents (assimp and tinygltf do); keep them one
+// printable line of valid UTF-8 whatever bytes the file held.
+std::string printable(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    size_t length = c < 0x80 ? 1 : (c >> 5) == 0x6 ? 2 : (c >> 4) == 0xE ? 3 : (c >> 3) == 0x1E ? 4 : 0;
+    bool valid = length > 0 && i + length <= text.size();
+    for (size_t k = 1; valid && k < length; ++k) valid = (static_cast<unsigned char>(text[i + k]) >> 6) == 0x2;
+    if (!valid) {
+      out += '?';
+      ++i;
+    } else if (length == 1) {
+      out += (c < 0x20 || c == 0x7F) ? ' ' : static_cast<char>(c);
+      ++i;
+    } else {
+      out.append(text, i, length);
+      i += length;
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<std::string> supported_mesh_extensions() {
@@ -59,12 +83,12 @@ Mesh load_mesh(const std::string& path, const LoadOptions& options) {
     weld_vertices(mesh, options.weld_tolerance > 0 ? options.weld_tolerance * diagonal : 0.0);
     validate(mesh);
     return mesh;
-  } catch (const Error&) {
-    throw;
+  } catch (const Error& e) {
+    throw Error(printable(e.what()));
   } catch (const std::bad_alloc&) {
     throw Error(path + ": out of memory while reading; the file is corrupt or too large for this machine");
   } catch (const std::exception& e) {
-    throw Error(path + ": cannot be read: " + e.what());
+    throw Error(printable(path + ": cannot be read: " + e.what()));
   }
 }
 

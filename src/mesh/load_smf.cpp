@@ -62,7 +62,7 @@ Mesh load_smf(const std::string& path) {
     if (command == "v") {
       if (args.size() < 3) reader.fail("vertex needs 3 coordinates, found " + std::to_string(args.size()));
       mesh.positions.push_back({reader.number(args[0]), reader.number(args[1]), reader.number(args[2])});
-    } else if (command == "f" || command == "t") {
+    } else if (command == "f") {
       if (args.size() < 3) reader.fail("face needs at least 3 vertex indices, found " + std::to_string(args.size()));
       std::vector<uint32_t> polygon;
       for (const std::string& a : args) {
@@ -135,7 +135,7 @@ Mesh load_smf(const std::string& path) {
       }
   }
 
-  if (mesh.triangles.empty()) throw Error(path + ": no faces ('f' lines) found; pfill needs triangles");
+  if (mesh.triangles.empty()) throw Error(path + ": no triangles: the file has no faces ('f' lines); pfill needs a triangle surface");
   validate(mesh);
   return mesh;
 }

@@ -27,6 +27,10 @@ std::string lower_extension(const std::string& path);
 Texture decode_image(const uint8_t* bytes, size_t size, const std::string& name);
 Texture decode_image_file(const std::string& path);
 
+/// Throws pfill::Error naming `path` unless the PLY file's header is
+/// well formed and its body matches the header exactly (load_ply_check.cpp).
+void check_ply_structure(const std::string& path);
+
 /// Encodes a linear colour component as sRGB (IEC 61966-2-1), clamped to [0, 1].
 float linear_to_srgb(float linear);
 
