@@ -1,0 +1,147 @@
+// Whole fills of shapes generated in code, small enough for PoCL in CI:
+// containment, overlaps and packing checked exactly; each stopping signal
+// on a scenario that triggers it; reproducibility; bad input.
+#include <doctest/doctest.h>
+
+#include <filesystem>
+
+#include "pfill/error.hpp"
+#include "pfill/fill.hpp"
+#include "pfill/particle_io.hpp"
+#include "pfill/shapes.hpp"
+
+using namespace pfill;
+
+namespace {
+
+FillOptions small_fill(size_t count, uint64_t seed = 1) {
+  FillOptions o;
+  o.count = count;
+  o.seed = seed;
+  o.colour = ColourOptions{ColourMode::None, {}};
+  return o;
+}
+
+void check_quality(const FillResult& r, double min_packing, double max_packing) {
+  INFO("particles " << r.metrics.count << ", packing " << r.metrics.packing_fraction << ", max overlap "
+                    << r.metrics.max_overlap << ", max penetration " << r.metrics.max_penetration);
+  CHECK(r.metrics.count == r.particles.size());
+  CHECK(r.metrics.contained_share == 1.0);
+  CHECK(r.metrics.max_penetration <= 0.01);
+  CHECK(r.metrics.max_overlap <= 0.05 + 1e-9);
+  CHECK(r.metrics.packing_fraction >= min_packing);
+  CHECK(r.metrics.packing_fraction <= max_packing);
+  CHECK(r.metrics.mean_coordination > 3.0);
+  CHECK_FALSE(r.stop_signal.empty());
+  CHECK(r.passes.size() == 4);
+}
+
+}  // namespace
+
+TEST_CASE("fill a sphere: every sphere inside, overlaps under 5% r, dense") {
+  const FillResult r = fill(make_icosphere(1.0, 4), small_fill(400));
+  check_quality(r, 0.50, 0.70);
+  CHECK(r.particles.size() > 300);
+  CHECK(r.sites.size() == 1);  // a ball has one deep core: no room for a second site
+}
+
+TEST_CASE("fill a cube") {
+  const FillResult r = fill(make_cube(1.0, 2), small_fill(400));
+  check_quality(r, 0.48, 0.70);
+}
+
+TEST_CASE("fill a torus: sites spread round the ring") {
+  const FillResult r = fill(make_torus(1.0, 0.45, 64, 32), small_fill(300));
+  check_quality(r, 0.45, 0.70);
+  REQUIRE(r.sites.size() == 2);
+  // Farthest-point sampling puts the second site across the ring.
+  CHECK(length(r.sites[0].position - r.sites[1].position) > 1.5);
+}
+
+TEST_CASE("the same seed gives the same particles; another seed gives others") {
+  const Mesh sphere = make_icosphere(1.0, 3);
+  const FillResult a = fill(sphere, small_fill(150, 7));
+  const FillResult b = fill(sphere, small_fill(150, 7));
+  const FillResult c = fill(sphere, small_fill(150, 8));
+  REQUIRE(a.particles.size() == b.particles.size());
+  CHECK(a.particles.positions == b.particles.positions);
+  CHECK(a.particles.radii == b.particles.radii);
+  CHECK(a.particles.positions != c.particles.positions);
+}
+
+TEST_CASE("the kinetic-energy test ends pass 1 when told to and it fires") {
+  FillOptions o = small_fill(200);
+  o.stop = StopCriterion::KineticEnergy;
+  o.birth_every = 40;           // quiet stretches between births, so rises can be seen
+  o.ke = {3, 50, 2};            // a short run of rises is an instability
+  o.blocked.patience = 100000;  // the fallback must not end it first
+  const FillResult r = fill(make_icosphere(1.0, 3), o);
+  CHECK(r.stop_signal == "ke");
+  CHECK(r.ke_events == 2);
+  CHECK(r.metrics.contained_share == 1.0);
+}
+
+TEST_CASE("the collision-count test ends pass 1 when told to and it fires") {
+  FillOptions o = small_fill(200);
+  o.stop = StopCriterion::Collisions;
+  o.collisions = {5, 20, 1};  // five steps of a steady count; one failed removal is overfull
+  o.blocked.patience = 100000;
+  const FillResult r = fill(make_icosphere(1.0, 3), o);
+  CHECK(r.stop_signal == "collisions");
+  CHECK(r.metrics.contained_share == 1.0);
+}
+
+TEST_CASE("with the report's tests chosen but silent, blocked sites still end the fill") {
+  FillOptions o = small_fill(150);
+  o.stop = StopCriterion::KineticEnergy;
+  o.ke = {1000000, 10, 1};  // can never fire
+  o.blocked.patience = 500;
+  const FillResult r = fill(make_icosphere(1.0, 3), o);
+  CHECK(r.stop_signal == "blocked");
+  CHECK(r.stop_reason.find("did not fire") != std::string::npos);
+}
+
+TEST_CASE("a filled inside-out cube is re-oriented and filled like the cube") {
+  const FillResult r = fill(make_inside_out_cube(1.0, 2), small_fill(200));
+  check_quality(r, 0.45, 0.70);
+  REQUIRE_FALSE(r.warnings.empty());
+  CHECK(r.warnings[0].find("inside-out") != std::string::npos);
+}
+
+TEST_CASE("fill output written as PLY reads back as the same particles") {
+  const FillResult r = fill(make_icosphere(1.0, 3), small_fill(100));
+  const auto path = std::filesystem::temp_directory_path() / "pfill_test_fill.ply";
+  write_particles(r.particles, path);
+  const ParticleSet back = read_particles(path);
+  std::filesystem::remove(path);
+  REQUIRE(back.size() == r.particles.size());
+  for (size_t i = 0; i < back.size(); ++i) {
+    CHECK(back.positions[i].x == doctest::Approx(r.particles.positions[i].x).epsilon(1e-6));
+    CHECK(back.radii[i] == doctest::Approx(r.particles.radii[i]).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("bad fills give one clear line") {
+  const Mesh sphere = make_icosphere(1.0, 2);
+  FillOptions o;
+  o.radius = 2.0;
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("no particle of radius 2 fits: the deepest point is"),
+                       Error);
+  o = FillOptions{};
+  o.count = 1'000'000'000;
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("more than pfill handles"), Error);
+  o = FillOptions{};
+  o.radius = 1e-5;
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("more than pfill handles"), Error);
+  o = small_fill(100);
+  o.birth_point = Vec3{3, 0, 0};
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("outside the mesh"), Error);
+  o = small_fill(100);
+  o.rest_distance = 0.5;
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("--rest-distance"), Error);
+  o = FillOptions{};
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("radius (-r) or a count (-n)"), Error);
+  Mesh empty;
+  empty.source = "nothing.obj";
+  CHECK_THROWS_WITH_AS(fill(empty, small_fill(10)), doctest::Contains("nothing.obj"), Error);
+}
