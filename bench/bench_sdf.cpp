@@ -25,44 +25,13 @@
 
 #include "pfill/boundary.hpp"
 #include "pfill/error.hpp"
+#include "pfill/mesh_io.hpp"
 #include "pfill/sdf.hpp"
 #include "pfill/shapes.hpp"
 
 using namespace pfill;
 
 namespace {
-
-// BENCH-ONLY HELPER: a minimal OBJ reader (`v` and `f` lines; polygons are
-// fanned; `a/b/c` and negative indices accepted). The loaders part provides
-// pfill::load_mesh; switch to it once merged.
-Mesh read_obj_for_bench(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw Error(path + ": cannot open the file");
-  Mesh mesh;
-  mesh.source = path;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream s(line);
-    std::string tag;
-    s >> tag;
-    if (tag == "v") {
-      Vec3 p;
-      s >> p.x >> p.y >> p.z;
-      mesh.positions.push_back(p);
-    } else if (tag == "f") {
-      std::vector<uint32_t> face;
-      std::string corner;
-      while (s >> corner) {
-        const long index = std::stol(corner.substr(0, corner.find('/')));
-        face.push_back(static_cast<uint32_t>(index < 0 ? static_cast<long>(mesh.positions.size()) + index : index - 1));
-      }
-      for (size_t k = 2; k < face.size(); ++k) mesh.triangles.push_back({face[0], face[k - 1], face[k]});
-    }
-  }
-  weld_vertices(mesh);
-  validate(mesh);
-  return mesh;
-}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -145,7 +114,7 @@ int main(int argc, char** argv) {
       for (const char* name : {"stanford-bunny-closed.obj", "spot.obj"})
         if (std::filesystem::exists(shared / name)) mesh_paths.push_back((shared / name).string());
     }
-    for (const std::string& path : mesh_paths) meshes.push_back(read_obj_for_bench(path));
+    for (const std::string& path : mesh_paths) meshes.push_back(load_mesh(path));
     if (meshes.empty()) {
       meshes.push_back(make_torus(1.0, 0.4, 256, 128));
       meshes.back().source = "generated torus (R 1, r 0.4, 65,536 triangles)";
