@@ -45,13 +45,15 @@ struct FillOptions {
   double restitution = 0.5;
   double wall_restitution = 0.5;
   double damping = 0;           ///< velocity damping rate during passes 1-2
+  double time_step = 0.01;      ///< in units of the potential's time scale tau = sigma sqrt(m / eps)
+  double max_step_fraction = 0.1;   ///< no particle moves more than this many sigma a step (the top speed)
 
   // Births.
   int sites = 2;                ///< birth sites: the deepest point, then far deep points
   int birth_every = 3;          ///< steps between birth attempts at each site
   std::optional<Vec3> birth_point;  ///< overrides the first site
-  double birth_speed_min = 0.2; ///< newborn speed range, as fractions of the top speed
-  double birth_speed_max = 0.5;
+  double birth_speed_min = 0.5; ///< newborn speed range, as fractions of the top speed
+  double birth_speed_max = 1.0;
   double birth_clearance = 0.5; ///< a site has room when no centre is within this times 2r (measured on spot and a torus: 0.5 packs densest)
   uint64_t seed = 1;
 

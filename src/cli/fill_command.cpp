@@ -36,6 +36,7 @@ struct FillArgs {
   std::string exponents = "12,6";
   std::string stop = "blocked";
   std::string colour;
+  std::string birth_speed;
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
@@ -136,6 +137,12 @@ void run_fill(FillArgs& a) {
   if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
   parse_exponents(a.exponents, a.options);
   a.options.stop = parse_stop_criterion(a.stop);
+  if (!a.birth_speed.empty()) {
+    char extra = 0;
+    if (std::sscanf(a.birth_speed.c_str(), "%lf,%lf%c", &a.options.birth_speed_min, &a.options.birth_speed_max,
+                    &extra) != 2)
+      throw Error("--birth-speed '" + a.birth_speed + "': give MIN,MAX as fractions of the top speed (e.g. 0.2,0.5)");
+  }
   if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
   if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
 
@@ -207,6 +214,8 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--wall-restitution", o.wall_restitution, "Particle-surface restitution, 0..1")
       ->capture_default_str();
   cmd->add_option("--damping", o.damping, "Velocity damping rate during the fill")->capture_default_str();
+  cmd->add_option("--time-step", o.time_step, "Time step in units of the potential's time scale tau")
+      ->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
       ->capture_default_str();
   cmd->add_option("--sites", o.sites, "Birth sites: the deepest point, then far deep points")->capture_default_str();
@@ -214,6 +223,9 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--birth-clearance", o.birth_clearance,
                   "A site has room when no centre is within this many contact distances 2r")
+      ->capture_default_str();
+  cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed");
+  cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
       ->capture_default_str();
   cmd->add_option("--birth", a->birth, "First birth site X,Y,Z (must be inside; default the deepest point)");
   cmd->add_option("--stop", a->stop, "What ends pass 1: blocked (sites full), ke (kinetic energy), collisions")

@@ -154,6 +154,8 @@ class FillRun {
     params_.restitution = o_.restitution;
     params_.wall_restitution = o_.wall_restitution;
     params_.damping = o_.damping;
+    params_.dt = o_.time_step * derive_constants(params_).tau;
+    params_.max_step_fraction = o_.max_step_fraction;
     engine_ = std::make_unique<Engine>(*device_, params_);
     engine_->set_field(field_);
     top_speed_ = engine_->constants().max_speed;
@@ -174,6 +176,7 @@ class FillRun {
          "birth speeds must satisfy 0 <= min <= max <= 1 (fractions of the top speed)");
     need(o_.max_overlap > 0 && o_.max_overlap < 1, "--max-overlap must be in (0, 1)");
     need(o_.field_spacing > 0 && o_.field_spacing <= 2, "the field spacing must be in (0, 2] radii");
+    need(o_.time_step > 0 && o_.time_step <= 0.05, "--time-step must be in (0, 0.05] tau");
     need(o_.sync_every >= 1 && o_.sync_every <= 1000, "sync_every must be 1..1000");
   }
 
@@ -290,6 +293,7 @@ class FillRun {
       particles_ = to_particle_set(relaxer.read_particles());
       const std::vector<Overlap> overlaps = find_overlaps(particles_, o_.max_overlap);
       report_particles(particles_.size(), 0, static_cast<uint32_t>(overlaps.size()));
+      { double mx = 0; for (const Overlap& o : overlaps) mx = std::max(mx, o.fraction); if (getenv("PFILL_DEBUG")) fprintf(stderr, "relief round %d: n %zu over %zu max %.3f\n", round, particles_.size(), overlaps.size(), mx); }
       if (overlaps.empty() || round >= o_.max_relief_rounds) {
         result_.relief_rounds = static_cast<size_t>(round) + 1;
         break;
