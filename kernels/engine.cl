@@ -8,7 +8,8 @@
  * the cell list built for X, and writes X', V' and the cell list for X'
  * into the other halves of ping-pong buffers, so no kernel reads what
  * another work-item writes. Leapfrog (velocity Verlet written with half-step
- * velocities): u(t+1/2) = u(t-1/2) + dt F(x(t))/m + contact impulses/m,
+ * velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m, F the pair
+ * forces plus the contact dashpots,
  * x(t+1) = x(t) + dt u(t+1/2), then the wall.
  *
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
@@ -30,7 +31,8 @@
 #define PF_RC2 1.2599210f
 #define PF_FORCE_CAP 100.0f
 #define PF_D_MIN 0.001f
-#define PF_RESTITUTION 0.5f
+#define PF_DASHPOT 3.6f
+#define PF_CONTACT2 1.0f
 #define PF_WALL_RESTITUTION 0.5f
 #define PF_DT 0.005f
 #define PF_DAMP 1.0f
@@ -198,7 +200,7 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
     const float4 xi = X[i];
     const float4 vi = V[i];
     const float ri = xi.w, inv_mi = vi.w;
-    float4 force = (float4)(0.0f), impulse = (float4)(0.0f);
+    float4 force = (float4)(0.0f);
     const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
@@ -227,19 +229,19 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
             }
             force += pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF,
                                        PF_RC2, PF_FORCE_CAP) * d;
-            if (d2 < rs * rs) {
+            if (d2 < fmax(rs * rs, PF_CONTACT2)) {
               const float4 vj = V[j];
               const float4 nrm = d * rsqrt(d2);
               float4 du = vi - vj;
               du.w = 0.0f;
-              impulse += pf_contact_impulse(dot(du, nrm), inv_mi, vj.w, PF_RESTITUTION) * nrm;
-              red_u.x += (j > i) ? 1u : 0u;
+              force += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT) * nrm;
+              red_u.x += (j > i && d2 < rs * rs) ? 1u : 0u;
             }
           }
         }
     float4 u = vi;
     u.w = 0.0f;
-    u = (u + (PF_DT * inv_mi) * force + inv_mi * impulse) * PF_DAMP;
+    u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
     const float speed = length(u);
     if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
     float4 xn = xi + PF_DT * u;

@@ -49,6 +49,14 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.max_speed = p.max_step_fraction * c.sigma / c.dt;
   c.force_cap = p.force_cap > 0 ? p.force_cap : c.max_speed / c.dt;
   c.damping_factor = std::exp(-p.damping * c.dt);
+  c.contact_distance = rest;
+  // Stiffness of the potential at its minimum, and the damping ratio that
+  // gives the restitution for a linear spring of that stiffness.
+  const double x = c.sigma / rest;
+  const double k = 4 * p.eps * (a * (a + 1) * std::pow(x, a) - b * (b + 1) * std::pow(x, b)) / (rest * rest);
+  const double log_e = std::log(std::max(p.restitution, 1e-6));
+  const double zeta = p.restitution >= 1 ? 0 : -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
+  c.dashpot = 2 * zeta * std::sqrt(k);
   c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
   c.cell_size = std::max(c.cutoff, 2 * c.max_radius);
   // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.

@@ -66,7 +66,7 @@ StepRecord ReferenceEngine::step() {
   for (size_t i = 0; i < particles_.size(); ++i) {
     const Particle& pi = particles_[i];
     const double inv_mi = 1 / pi.mass;
-    Vec3 force, impulse;
+    Vec3 force;
     for (size_t j = 0; j < particles_.size(); ++j) {
       if (j == i) continue;
       const Particle& pj = particles_[j];
@@ -80,14 +80,13 @@ StepRecord ReferenceEngine::step() {
       }
       force += physics::pf_lj_force_scale(d2, sigma2, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
                                           c.b_half, rc2, c.force_cap) * d;
-      if (d2 < rs * rs) {
+      if (d2 < std::max(rs * rs, c.contact_distance * c.contact_distance)) {
         const Vec3 n = d / std::sqrt(d2);
-        impulse += physics::pf_contact_impulse(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass,
-                                               params_.restitution) * n;
-        if (j > i) ++rec.colliding_pairs;
+        force += physics::pf_contact_damping(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass, c.dashpot) * n;
+        if (j > i && d2 < rs * rs) ++rec.colliding_pairs;
       }
     }
-    Vec3 u = (pi.velocity + (c.dt * inv_mi) * force + inv_mi * impulse) * c.damping_factor;
+    Vec3 u = (pi.velocity + (c.dt * inv_mi) * force) * c.damping_factor;
     const double speed = length(u);
     if (speed > c.max_speed) u *= c.max_speed / speed;
     Vec3 x = pi.position + c.dt * u;

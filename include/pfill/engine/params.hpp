@@ -20,7 +20,7 @@ struct EngineParams {
   double exponent_a = 12;          ///< repulsive exponent a (> b)
   double exponent_b = 6;           ///< attractive exponent b (> 0)
   double cutoff_sigma = 0;         ///< cutoff in units of sigma (e.g. 2.5); 0: purely repulsive (cutoff at the minimum)
-  double restitution = 0.5;        ///< particle-particle restitution in [0, 1]
+  double restitution = 0.5;        ///< particle-particle restitution in [0, 1] (of the linearised contact; 1: none lost)
   double wall_restitution = 0.5;   ///< particle-wall restitution in [0, 1]
   double damping = 0;              ///< velocity damping rate (1/time): u *= exp(-damping dt) a step
   double dt = 0;                   ///< time step; 0: 0.005 tau, tau = sigma sqrt(m / eps)
@@ -40,6 +40,8 @@ struct EngineConstants {
   double max_speed = 0;      ///< max_step_fraction * sigma / dt: speeds are clamped to it
   double force_cap = 0;      ///< largest pair force
   double damping_factor = 1; ///< exp(-damping dt)
+  double contact_distance = 0; ///< the rest distance: contacts damp while d < max(r_i + r_j, this)
+  double dashpot = 0;        ///< 2 zeta sqrt(k): contact damping (physics.cl pf_contact_damping)
   double cell_size = 0;      ///< smallest cell edge: max(cutoff, 2 max_radius)
   double max_radius = 0;
   unsigned cell_capacity = 0;  ///< particles a cell can list (more are dropped and counted as overflow)
