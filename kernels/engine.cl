@@ -16,11 +16,17 @@
  * count word is (stamp << 8 | count); a count whose stamp is not the
  * current one reads as zero, so cells never need clearing.
  *
- * Per-step scalars: every work-group reduces its particles into a partial
- * record; group 0 of the next step (or finalize_history) reduces the
- * previous step's partials into one HISTORY record of 8 words:
- * kinetic energy, max speed, max displacement, 0, then as uints: colliding
- * pairs, flagged particles, cells over capacity, particle count. */
+ * Per-step scalars, with no barrier in any kernel (PoCL runs barrier
+ * kernels far slower): step t writes one record per particle (S); during
+ * step t+1, work-item k sums chunk k of step t's records into a partial (P);
+ * during step t+2, work-item 0 sums those partials into the HISTORY record
+ * of step t: 8 words, kinetic energy, max speed, max displacement, 0, then
+ * as uints: colliding pairs, flagged particles, cell-overflow hits, particle
+ * count. finalize_history finishes the (at most two) steps still in flight.
+ *
+ * Wall clearance: C[i] is a lower bound on how far particle i's sphere is
+ * from the wall; it shrinks by 2 |dx| a step (the trilinear field changes
+ * by at most sqrt(3) |dx|) and the field is sampled only when it reaches 0. */
 #ifndef PF_SIGMA2
 #define PF_SIGMA2 1.0f
 #define PF_EPS 1.0f
@@ -74,43 +80,52 @@ void pf_cell_insert(__global uint* counts, __global uint* slots, uint cell, uint
   }
 }
 
-/* Tree reduction of a work-group: x, w summed, y, z maxima of lf; x, y, z
- * summed, w maximum of lu. The result is in element 0. Work-group size must
- * be a power of two. */
-void pf_group_reduce(__local float4* lf, __local uint4* lu) {
-  const uint lid = get_local_id(0);
-  for (uint s = get_local_size(0) / 2; s > 0; s >>= 1) {
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (lid < s) {
-      const float4 a = lf[lid], b = lf[lid + s];
-      lf[lid] = (float4)(a.x + b.x, fmax(a.y, b.y), fmax(a.z, b.z), a.w + b.w);
-      const uint4 p = lu[lid], q = lu[lid + s];
-      lu[lid] = (uint4)(p.x + q.x, p.y + q.y, p.z + q.z, max(p.w, q.w));
-    }
+/* Per-particle record: (kinetic energy, speed, displacement, packed
+ * counters: pairs in bits 0-15, flagged bit 16, overflow bit 17). */
+#define PF_FLAGGED_BIT 0x10000u
+#define PF_OVERFLOW_BIT 0x20000u
+
+/* Sums particle records [first, end) into one partial record at out. */
+void pf_sum_records(__global const float4* S, uint first, uint end, uint n, __global float* out) {
+  float ke = 0.0f, speed = 0.0f, disp = 0.0f;
+  uint pairs = 0u, flagged = 0u, overflow = 0u;
+  for (uint k = first; k < end; ++k) {
+    const float4 r = S[k];
+    const uint bits = as_uint(r.w);
+    ke += r.x;
+    speed = fmax(speed, r.y);
+    disp = fmax(disp, r.z);
+    pairs += bits & 0xFFFFu;
+    flagged += (bits >> 16) & 1u;
+    overflow += (bits >> 17) & 1u;
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
+  vstore4((float4)(ke, speed, disp, 0.0f), 0, out);
+  vstore4(as_float4((uint4)(pairs, flagged, overflow, n)), 1, out);
 }
 
-/* Reduces `groups` partial records into history[slot]; all items of one group call it. */
-void pf_partials_to_history(__global const float* partials, uint groups, __global float* history, uint slot,
-                            __local float4* lf, __local uint4* lu) {
-  const uint lid = get_local_id(0);
+/* Sums `groups` partial records into one history record at out. */
+void pf_sum_partials(__global const float* P, uint groups, __global float* out) {
   float4 f = (float4)(0.0f);
   uint4 u = (uint4)(0u);
-  for (uint g = lid; g < groups; g += get_local_size(0)) {
-    const float4 pf = vload4(0, partials + g * PF_RECORD);
-    const uint4 pu = as_uint4(vload4(1, partials + g * PF_RECORD));
+  for (uint g = 0; g < groups; ++g) {
+    const float4 pf = vload4(0, P + g * PF_RECORD);
+    const uint4 pu = as_uint4(vload4(1, P + g * PF_RECORD));
     f = (float4)(f.x + pf.x, fmax(f.y, pf.y), fmax(f.z, pf.z), 0.0f);
     u = (uint4)(u.x + pu.x, u.y + pu.y, u.z + pu.z, max(u.w, pu.w));
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
-  lf[lid] = f;
-  lu[lid] = u;
-  pf_group_reduce(lf, lu);
-  if (lid == 0) {
-    vstore4(lf[0], 0, history + slot * PF_RECORD);
-    vstore4(as_float4(lu[0]), 1, history + slot * PF_RECORD);
-  }
+  vstore4(f, 0, out);
+  vstore4(as_float4(u), 1, out);
+}
+
+/* The reduction work that rides along a step: work-item k < chunk_groups
+ * sums chunk k of the previous step's records; work-item 0 turns the
+ * partials of the step before into its history record. */
+void pf_reduce_in_flight(uint k, __global const float4* S_prev, uint n_prev, uint chunk, uint chunk_groups,
+                         __global float* P_out, __global const float* P_prev, uint groups_prev2,
+                         __global float* history, uint slot_prev2) {
+  if (k < chunk_groups)
+    pf_sum_records(S_prev, k * chunk, min(n_prev, (k + 1u) * chunk), n_prev, P_out + k * PF_RECORD);
+  if (k == 0 && groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
 }
 
 /* Inserts particles [first, first + count) of X into the cells under `stamp`. */
@@ -124,29 +139,36 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
 }
 
 /* One birth: writes particle `index` and lists it in the current cells. */
-__kernel void birth_one(__global float4* X, __global float4* V, __global uint* flags, __global uint* counts,
+__kernel void birth_one(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                        __global uint* counts,
                         __global uint* slots, const uint stamp, const float4 cell_origin, const float4 cell_inv,
                         const int4 cell_dims, const uint index, const float4 x, const float4 v) {
   if (get_global_id(0) != 0) return;
   X[index] = x;
   V[index] = v;
   flags[index] = 0u;
+  C[index] = 0.0f;
   if (stamp != 0u) pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, index);
 }
 
 /* One removal: particle `from` (the last) takes the place of `to`. */
-__kernel void move_particle(__global float4* X, __global float4* V, __global uint* flags, const uint from,
-                            const uint to) {
+__kernel void move_particle(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                            const uint from, const uint to) {
   if (get_global_id(0) != 0) return;
   X[to] = X[from];
   V[to] = V[from];
   flags[to] = flags[from];
+  C[to] = C[from];
 }
 
-/* Reduces the last step's partial records into its history slot. */
-__kernel void finalize_history(__global const float* partials, const uint groups, __global float* history,
-                               const uint slot, __local float4* lf, __local uint4* lu) {
-  pf_partials_to_history(partials, groups, history, slot, lf, lu);
+/* Finishes the steps in flight (one work-item): the record of the last
+ * step (S_prev, if n_prev_valid) and the partials of the one before. */
+__kernel void finalize_history(__global const float4* S_prev, const uint n_prev, const uint have_prev,
+                               __global float* history, const uint slot_prev, __global const float* P_prev,
+                               const uint groups_prev2, const uint slot_prev2) {
+  if (get_global_id(0) != 0) return;
+  if (groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
+  if (have_prev) pf_sum_records(S_prev, 0u, n_prev, n_prev, history + slot_prev * PF_RECORD);
 }
 
 /* For tests: the indices of each particle's neighbours (pairs the step
@@ -182,71 +204,73 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
   out_count[i] = found;
 }
 
-/* The whole update of one particle (see the top of the file). walls.w != 0
- * when a field is set: sdf_origin = (origin, 1/spacing), sdf_dims = (nx, ny, nz, has_walls). */
-__kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
-                   __global const uint* counts, __global const uint* slots, const uint stamp,
-                   __global uint* counts_out, __global uint* slots_out, const uint stamp_out,
-                   const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
-                   __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
-                   __global uint* flags, const uint n,
-                   __global float* partials, __global const float* prev_partials, const uint prev_groups,
-                   __global float* history, const uint prev_slot,
-                   __local float4* lf, __local uint4* lu) {
+/* The whole update of one particle (see the top of the file), plus the
+ * reduction work in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
+ * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
+__kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out,
+                      __global float4* V_out, __global const uint* counts, __global const uint* slots,
+                      const uint stamp, __global uint* counts_out, __global uint* slots_out, const uint stamp_out,
+                      const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
+                      __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
+                      __global uint* flags, __global float* C, const uint n, __global float4* S_out,
+                      __global const float4* S_prev, const uint n_prev, const uint chunk, const uint chunk_groups,
+                      __global float* P_out, __global const float* P_prev, const uint groups_prev2,
+                      __global float* history, const uint slot_prev2) {
   const uint i = get_global_id(0);
-  float4 red_f = (float4)(0.0f);  /* kinetic energy, speed, displacement, 0 */
-  uint4 red_u = (uint4)(0u, 0u, 0u, n);  /* colliding pairs, flagged, overflow, count */
-  if (i < n) {
-    const float4 xi = X[i];
-    const float4 vi = V[i];
-    const float ri = xi.w, inv_mi = vi.w;
-    float4 force = (float4)(0.0f);
-    const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int4 cc = c + (int4)(dx, dy, dz, 0);
-          if (any(cc.xyz < (int3)(0)) || any(cc.xyz >= cell_dims.xyz)) continue;
-          const uint cell = pf_cell_index(cc, cell_dims);
-          uint m = pf_cell_count(counts, cell, stamp);
-          if (m > PF_CELL_CAP) {
-            red_u.z = 1u;
-            m = PF_CELL_CAP;
+  pf_reduce_in_flight(i, S_prev, n_prev, chunk, chunk_groups, P_out, P_prev, groups_prev2, history, slot_prev2);
+  if (i >= n) return;
+  const float4 xi = X[i];
+  const float4 vi = V[i];
+  const float ri = xi.w, inv_mi = vi.w;
+  float4 force = (float4)(0.0f);
+  uint pairs = 0u, bits = 0u;
+  const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
+  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
+  for (int cz = lo.z; cz <= hi.z; ++cz)
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
+        uint m = pf_cell_count(counts, cell, stamp);
+        if (m > PF_CELL_CAP) {
+          bits |= PF_OVERFLOW_BIT;
+          m = PF_CELL_CAP;
+        }
+        __global const uint* list = slots + cell * PF_CELL_CAP;
+        for (uint k = 0; k < m; ++k) {
+          const uint j = list[k];
+          if (j == i) continue;
+          const float4 xj = X[j];
+          float4 d = xi - xj;
+          d.w = 0.0f;
+          float d2 = dot(d, d);
+          const float rs = ri + xj.w;
+          if (d2 >= fmax(PF_RC2, fmax(rs * rs, PF_CONTACT2))) continue;
+          if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other: a fixed, antisymmetric direction */
+            d = (float4)(i < j ? -PF_D_MIN : PF_D_MIN, 0.0f, 0.0f, 0.0f);
+            d2 = PF_D_MIN * PF_D_MIN;
           }
-          __global const uint* list = slots + cell * PF_CELL_CAP;
-          for (uint k = 0; k < m; ++k) {
-            const uint j = list[k];
-            if (j == i) continue;
-            const float4 xj = X[j];
-            float4 d = xi - xj;
-            d.w = 0.0f;
-            float d2 = dot(d, d);
-            const float rs = ri + xj.w;
-            if (d2 >= fmax(PF_RC2, rs * rs)) continue;
-            if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other: a fixed, antisymmetric direction */
-              d = (float4)(i < j ? -PF_D_MIN : PF_D_MIN, 0.0f, 0.0f, 0.0f);
-              d2 = PF_D_MIN * PF_D_MIN;
-            }
-            force += pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF,
-                                       PF_RC2, PF_FORCE_CAP) * d;
-            if (d2 < fmax(rs * rs, PF_CONTACT2)) {
-              const float4 vj = V[j];
-              const float4 nrm = d * rsqrt(d2);
-              float4 du = vi - vj;
-              du.w = 0.0f;
-              force += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT) * nrm;
-              red_u.x += (j > i && d2 < rs * rs) ? 1u : 0u;
-            }
+          force += pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, PF_RC2,
+                                     PF_FORCE_CAP) * d;
+          if (d2 < fmax(rs * rs, PF_CONTACT2)) {
+            const float4 vj = V[j];
+            const float4 nrm = d * rsqrt(d2);
+            float4 du = vi - vj;
+            du.w = 0.0f;
+            force += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT) * nrm;
+            pairs += (j > i && d2 < rs * rs) ? 1u : 0u;
           }
         }
-    float4 u = vi;
-    u.w = 0.0f;
-    u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
-    const float speed = length(u);
-    if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
-    float4 xn = xi + PF_DT * u;
-    xn.w = ri;
-    if (sdf_dims.w != 0) {
+      }
+  float4 u = vi;
+  u.w = 0.0f;
+  u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
+  const float speed = length(u);
+  if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
+  float4 xn = xi + PF_DT * u;
+  xn.w = ri;
+  if (sdf_dims.w != 0) {
+    float clearance = C[i] - 2.0f * PF_DT * length(u);
+    if (clearance <= 0.0f) {
       float g[3];
       float phi = pf_sdf_sample(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
                                 sdf_origin.w, xn.x, xn.y, xn.z, g);
@@ -254,9 +278,10 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
       const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
                               grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
                               grid_pos.z > (float)(sdf_dims.z - 1);
-      const uint flagged = (phi > 0.0f || outside_box) ? 1u : 0u;
-      red_u.y = flagged;
-      if (flagged) flags[i] = 1u;
+      if (phi > 0.0f || outside_box) {
+        bits |= PF_FLAGGED_BIT;
+        flags[i] = 1u;
+      }
       if (phi > -ri) {
         for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
           const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
@@ -274,22 +299,15 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
           u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
         }
       }
+      clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
     }
-    X_out[i] = xn;
-    V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
-    pf_cell_insert(counts_out, slots_out, pf_cell_index(pf_cell_of(xn, cell_origin, cell_inv, cell_dims), cell_dims),
-                   stamp_out, i);
-    float4 dxn = xn - xi;
-    dxn.w = 0.0f;
-    red_f = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), 0.0f);
+    C[i] = clearance;
   }
-  const uint lid = get_local_id(0);
-  lf[lid] = red_f;
-  lu[lid] = red_u;
-  pf_group_reduce(lf, lu);
-  if (lid == 0) {
-    vstore4(lf[0], 0, partials + get_group_id(0) * PF_RECORD);
-    vstore4(as_float4(lu[0]), 1, partials + get_group_id(0) * PF_RECORD);
-  }
-  if (get_group_id(0) == 0 && prev_groups > 0) pf_partials_to_history(prev_partials, prev_groups, history, prev_slot, lf, lu);
+  X_out[i] = xn;
+  V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
+  pf_cell_insert(counts_out, slots_out, pf_cell_index(pf_cell_of(xn, cell_origin, cell_inv, cell_dims), cell_dims),
+                 stamp_out, i);
+  float4 dxn = xn - xi;
+  dxn.w = 0.0f;
+  S_out[i] = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), as_float(min(pairs, 0xFFFFu) | bits));
 }

@@ -61,7 +61,7 @@ struct Engine::Impl {
 
   size_t n = 0, capacity = 0;
   int cur = 0;  // which half of X, V and the cells holds the current state
-  cl::Buffer X[2], V[2], flags;
+  cl::Buffer X[2], V[2], flags, clearance;
   // Cells: count words and slot lists, one per state half.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
@@ -74,11 +74,12 @@ struct Engine::Impl {
   cl::Buffer sdf;
   cl_float4 sdf_origin{};
   cl_int4 sdf_dims{};
-  // Per-step scalars.
-  cl::Buffer partials[2], history;
-  size_t partial_groups = 0;  // capacity of each partials buffer, in records
-  int partial_half = 0;       // the half the next step writes
-  size_t pending_groups = 0;  // >0: partials[1 - partial_half] hold an unreduced step
+  // Per-step scalars in flight (see the top of engine.cl): particle records
+  // S of the last step, partials P of the one before.
+  cl::Buffer records[2], partials[2], history;
+  bool last_pending = false;  // records[(steps - 1) % 2] hold step steps-1, unreduced
+  size_t last_n = 0;
+  size_t before_groups = 0;   // >0: partials[(steps - 1) % 2] hold step steps-2, unreduced
   uint64_t steps = 0, history_read = 0;
   std::vector<StepRecord> backlog;
   std::vector<std::pair<std::string, cl::Event>> events;
@@ -89,7 +90,7 @@ struct Engine::Impl {
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
     k_move = program.kernel("move_particle", 1);
-    k_finalize = program.kernel("finalize_history", params.work_group);
+    k_finalize = program.kernel("finalize_history", 1);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
     sdf = device.make_buffer(sizeof(float), "sdf (none)");
@@ -128,9 +129,12 @@ struct Engine::Impl {
     }
   }
 
-  size_t groups_for(size_t count) const {
-    const size_t wg = k_step.work_group();
-    return std::max<size_t>(1, (count + wg - 1) / wg);
+  // Records summed by one work-item: about sqrt(n), at least 64, so that
+  // neither the chunk sums nor the final sum of partials is long.
+  static size_t chunk_for(size_t count) {
+    size_t c = 64;
+    while (c * c < count) c *= 2;
+    return c;
   }
 
   // Room for `want` particles: doubling, state copied on the device.
@@ -138,27 +142,30 @@ struct Engine::Impl {
     if (want <= capacity) return;
     size_t cap = std::max<size_t>(capacity, 64);
     while (cap < want) cap *= 2;
-    reduce_pending();  // partials are reallocated below
+    reduce_pending();  // the record buffers are reallocated below
     cl::Buffer nx[2], nv[2];
     for (int h = 0; h < 2; ++h) {
       nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
       nv[h] = device.make_buffer(cap * sizeof(cl_float4), "velocities");
     }
     cl::Buffer nf = device.make_buffer(cap * sizeof(cl_uint), "flags");
+    cl::Buffer nc = device.make_buffer(cap * sizeof(cl_float), "wall clearance");
     if (n > 0) {
       auto& q = device.queue();
       check_cl(q.enqueueCopyBuffer(X[cur], nx[cur], 0, 0, n * sizeof(cl_float4)), "clEnqueueCopyBuffer", "positions");
       check_cl(q.enqueueCopyBuffer(V[cur], nv[cur], 0, 0, n * sizeof(cl_float4)), "clEnqueueCopyBuffer", "velocities");
       check_cl(q.enqueueCopyBuffer(flags, nf, 0, 0, n * sizeof(cl_uint)), "clEnqueueCopyBuffer", "flags");
+      check_cl(q.enqueueCopyBuffer(clearance, nc, 0, 0, n * sizeof(cl_float)), "clEnqueueCopyBuffer", "clearance");
     }
     for (int h = 0; h < 2; ++h) {
       X[h] = nx[h];
       V[h] = nv[h];
     }
     flags = nf;
+    clearance = nc;
     capacity = cap;
-    partial_groups = groups_for(cap);
-    for (auto& p : partials) p = device.make_buffer(partial_groups * kRecord * sizeof(float), "step partials");
+    for (auto& r : records) r = device.make_buffer(cap * sizeof(cl_float4), "step records");
+    for (auto& p : partials) p = device.make_buffer((cap / 64 + 1) * kRecord * sizeof(float), "step partials");
   }
 
   // The neighbour grid over `box`: cells of edge exactly cell_size (the
@@ -209,30 +216,36 @@ struct Engine::Impl {
     run(k_insert, n);
   }
 
-  // Reduces the last step's partials into its history slot, if not yet done.
+  // Finishes the reductions of the steps in flight (one tiny launch).
   void reduce_pending() {
-    if (pending_groups == 0) return;
-    const size_t wg = k_finalize.work_group();
-    k_finalize.set_args(partials[1 - partial_half], cl_uint(pending_groups), history,
-                        cl_uint((steps - 1) % params.history_capacity), local_bytes(wg * sizeof(cl_float4)),
-                        local_bytes(wg * sizeof(cl_uint4)));
-    run(k_finalize, wg);
-    pending_groups = 0;
+    if (!last_pending && before_groups == 0) return;
+    const size_t h = params.history_capacity;
+    const int last = static_cast<int>((steps + 1) % 2);  // (steps - 1) % 2
+    k_finalize.set_args(records[last], cl_uint(last_n), cl_uint(last_pending ? 1 : 0), history,
+                        cl_uint((steps + h - 1) % h), partials[last], cl_uint(before_groups),
+                        cl_uint((steps + h - 2) % h));
+    run(k_finalize, 1);
+    last_pending = false;
+    before_groups = 0;
   }
 
   void step() {
     if (steps - history_read >= params.history_capacity) drain_history();
     const int nxt = 1 - cur;
     const uint32_t stamp_out = new_stamp();
-    const size_t wg = k_step.work_group();
-    const cl_uint prev_slot = steps > 0 ? cl_uint((steps - 1) % params.history_capacity) : 0;
+    const size_t h = params.history_capacity;
+    const int now = static_cast<int>(steps % 2), last = 1 - now;
+    const size_t chunk = chunk_for(last_n);
+    const size_t chunk_groups = last_pending ? (last_n + chunk - 1) / chunk : 0;
     k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts[cur], slots[cur], cl_uint(stamp[cur]), counts[nxt],
                     slots[nxt], cl_uint(stamp_out), cell_origin, cell_inv, cell_dims, sdf, sdf_origin, sdf_dims, flags,
-                    cl_uint(n), partials[partial_half], partials[1 - partial_half], cl_uint(pending_groups), history,
-                    prev_slot, local_bytes(wg * sizeof(cl_float4)), local_bytes(wg * sizeof(cl_uint4)));
-    run(k_step, n);
-    pending_groups = groups_for(n);
-    partial_half = 1 - partial_half;
+                    clearance, cl_uint(n), records[now], records[last], cl_uint(last_n), cl_uint(chunk),
+                    cl_uint(chunk_groups), partials[now], partials[last], cl_uint(before_groups), history,
+                    cl_uint((steps + h - 2) % h));
+    run(k_step, std::max<size_t>({n, chunk_groups, 1}));
+    before_groups = chunk_groups;
+    last_pending = true;
+    last_n = n;
     stamp[nxt] = stamp_out;
     cur = nxt;
     ++steps;
@@ -307,13 +320,12 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   }
   m.reserve(first + particles.size());
   if (particles.size() == 1) {
-    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]),
-                       m.cell_origin, m.cell_inv, m.cell_dims, cl_uint(first), xs[0], vs[0]);
-    if (!m.have_domain) m.k_birth.set_arg(5, cl_uint(0));  // no cells yet: nothing to list it in
-    if (!m.have_domain) {
-      m.k_birth.set_arg(3, m.flags);  // placeholders for the absent cell buffers (unused with stamp 0)
-      m.k_birth.set_arg(4, m.flags);
-    }
+    // Without a domain there are no cells yet: stamp 0 lists nothing, and the
+    // flags buffer stands in for the absent cell buffers.
+    const bool cells = m.have_domain;
+    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cells ? m.counts[m.cur] : m.flags,
+                       cells ? m.slots[m.cur] : m.flags, cl_uint(cells ? m.stamp[m.cur] : 0), m.cell_origin,
+                       m.cell_inv, m.cell_dims, cl_uint(first), xs[0], vs[0]);
     m.run(m.k_birth, 1);
     m.n += 1;
     return first;
@@ -326,6 +338,8 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
                                 vs.data()), "clEnqueueWriteBuffer", "velocities");
   check_cl(q.enqueueWriteBuffer(m.flags, CL_TRUE, first * sizeof(cl_uint), zeros.size() * sizeof(cl_uint),
                                 zeros.data()), "clEnqueueWriteBuffer", "flags");
+  check_cl(q.enqueueWriteBuffer(m.clearance, CL_TRUE, first * sizeof(cl_float), zeros.size() * sizeof(cl_float),
+                                zeros.data()), "clEnqueueWriteBuffer", "clearance");  // 0.0f has the bits of 0u
   m.n += particles.size();
   if (m.have_domain && m.stamp[m.cur] != 0) {
     m.k_insert.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
@@ -345,7 +359,7 @@ void Engine::remove_particles(std::vector<size_t> indices) {
   for (size_t idx : indices) {
     const size_t last = m.n - 1;
     if (idx != last) {
-      m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, cl_uint(last), cl_uint(idx));
+      m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
     }
     m.n -= 1;
