@@ -7,11 +7,12 @@
 // Per-kernel times come from a second, profiled run. Text on stdout, JSON
 // with --json FILE.
 //
-//   bench_step [--big] [--quick] [--json FILE]
+//   bench_step [--big] [--quick] [--only N] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <random>
@@ -174,13 +175,15 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 
 int main(int argc, char** argv) {
   bool big = false, quick = false;
+  size_t only = 0;
   std::string json_path;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--big")) big = true;
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
+    else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--only N] [--json FILE]\n");
       return 2;
     }
   }
@@ -198,6 +201,7 @@ int main(int argc, char** argv) {
     all["device"] = device.info().name;
     all["platform"] = device.info().platform;
     for (const Case& c : cases) {
+      if (only && c.n != only) continue;
       const nlohmann::json j = run_case(device, profiled, c, quick);
       std::printf("N=%-8zu %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step  kernels(us/step):",
                   c.n, j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),

@@ -14,7 +14,12 @@
  *
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
  * count word is (stamp << 8 | count); a count whose stamp is not the
- * current one reads as zero, so cells never need clearing.
+ * current one reads as zero, so cells never need clearing. A cell's slots
+ * are one block of 9 rows of PF_CELL_CAP floats holding copies of its
+ * particles' x, y, z, radius, index (as uint bits), velocity x, y, z and
+ * 1/mass, so the pair loop reads 8 neighbours at once as float8 vectors,
+ * contacts included, without gathers (PoCL turns them into SIMD; GPUs run
+ * them as unrolled scalar code).
  *
  * Per-step scalars, with no barrier in any kernel (PoCL runs barrier
  * kernels far slower): step t writes one record per particle (S); during
@@ -48,6 +53,7 @@
 #endif
 
 #define PF_COUNT_MASK 0xFFu
+#define PF_BLOCK (9u * PF_CELL_CAP) /* floats per cell in the slots buffer */
 #define PF_RECORD 8
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
@@ -66,14 +72,25 @@ uint pf_cell_count(__global const uint* counts, uint cell, uint stamp) {
 }
 
 /* Adds particle i to a cell under `stamp`; a stale count restarts at zero. */
-void pf_cell_insert(__global uint* counts, __global uint* slots, uint cell, uint stamp, uint i) {
+void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint stamp, uint i, float4 x, float4 v) {
   uint old = atomic_or(&counts[cell], 0u);
   for (;;) {
     const uint count = (old >> 8) == stamp ? (old & PF_COUNT_MASK) : 0u;
     const uint want = (stamp << 8) | min(count + 1u, PF_COUNT_MASK);
     const uint seen = atomic_cmpxchg(&counts[cell], old, want);
     if (seen == old) {
-      if (count < PF_CELL_CAP) slots[cell * PF_CELL_CAP + count] = i;
+      if (count < PF_CELL_CAP) {
+        __global float* block = slots + cell * PF_BLOCK + count;
+        block[0] = x.x;
+        block[PF_CELL_CAP] = x.y;
+        block[2u * PF_CELL_CAP] = x.z;
+        block[3u * PF_CELL_CAP] = x.w;
+        block[4u * PF_CELL_CAP] = as_float(i);
+        block[5u * PF_CELL_CAP] = v.x;
+        block[6u * PF_CELL_CAP] = v.y;
+        block[7u * PF_CELL_CAP] = v.z;
+        block[8u * PF_CELL_CAP] = v.w;
+      }
       return;
     }
     old = seen;
@@ -128,27 +145,55 @@ void pf_reduce_in_flight(uint k, __global const float4* S_prev, uint n_prev, uin
   if (k == 0 && groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
 }
 
+/* pf_lj_force_scale of physics.cl for 8 squared distances at once, with the
+ * prelude's constants (the same formula; the oracle tests tie the two). */
+float8 pf_lj_force_scale8(float8 d2) {
+  const float8 x = PF_SIGMA2 / d2;
+#if PF_EXP_B_HALF > 0
+  float8 sb = x;
+  for (int k = 1; k < PF_EXP_B_HALF; ++k) sb *= x;
+#else
+  const float8 sb = pow(x, (float8)(0.5f * PF_EXP_B));
+#endif
+#if PF_EXP_B_HALF > 0 && PF_EXP_A_HALF == 2 * PF_EXP_B_HALF
+  const float8 sa = sb * sb;
+#elif PF_EXP_A_HALF > 0
+  float8 sa = x;
+  for (int k = 1; k < PF_EXP_A_HALF; ++k) sa *= x;
+#else
+  const float8 sa = pow(x, (float8)(0.5f * PF_EXP_A));
+#endif
+  const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) / d2;
+  const float8 k_max = PF_FORCE_CAP * rsqrt(d2);
+  return fmin(fmax(k, -k_max), k_max);
+}
+
 /* Inserts particles [first, first + count) of X into the cells under `stamp`. */
-__kernel void insert_cells(__global const float4* X, __global uint* counts, __global uint* slots, const uint stamp,
+__kernel void insert_cells(__global const float4* X, __global const float4* V, __global uint* counts,
+                           __global float* slots, const uint stamp,
                            const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint first,
                            const uint count) {
   const uint k = get_global_id(0);
   if (k >= count) return;
   const uint i = first + k;
-  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(X[i], cell_origin, cell_inv, cell_dims), cell_dims), stamp, i);
+  const float4 x = X[i];
+  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, i, x,
+                 V[i]);
 }
 
 /* One birth: writes particle `index` and lists it in the current cells. */
 __kernel void birth_one(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
                         __global uint* counts,
-                        __global uint* slots, const uint stamp, const float4 cell_origin, const float4 cell_inv,
+                        __global float* slots, const uint stamp, const float4 cell_origin, const float4 cell_inv,
                         const int4 cell_dims, const uint index, const float4 x, const float4 v) {
   if (get_global_id(0) != 0) return;
   X[index] = x;
   V[index] = v;
   flags[index] = 0u;
   C[index] = 0.0f;
-  if (stamp != 0u) pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, index);
+  if (stamp != 0u)
+    pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, index,
+                   x, v);
 }
 
 /* One removal: particle `from` (the last) takes the place of `to`. */
@@ -173,7 +218,7 @@ __kernel void finalize_history(__global const float4* S_prev, const uint n_prev,
 
 /* For tests: the indices of each particle's neighbours (pairs the step
  * considers: d^2 < max(rc^2, (r_i + r_j)^2)), at most max_out each. */
-__kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const uint* slots,
+__kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const float* slots,
                               const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
                               const uint n, __global uint* out_count, __global uint* out, const uint max_out) {
   const uint i = get_global_id(0);
@@ -189,7 +234,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
         const uint cell = pf_cell_index(cc, cell_dims);
         const uint m = min(pf_cell_count(counts, cell, stamp), PF_CELL_CAP);
         for (uint k = 0; k < m; ++k) {
-          const uint j = slots[cell * PF_CELL_CAP + k];
+          const uint j = as_uint(slots[cell * PF_BLOCK + 4u * PF_CELL_CAP + k]);
           if (j == i) continue;
           const float4 xj = X[j];
           float4 d = xi - xj;
@@ -208,8 +253,8 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
  * reduction work in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
  * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
 __kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out,
-                      __global float4* V_out, __global const uint* counts, __global const uint* slots,
-                      const uint stamp, __global uint* counts_out, __global uint* slots_out, const uint stamp_out,
+                      __global float4* V_out, __global const uint* counts, __global const float* slots,
+                      const uint stamp, __global uint* counts_out, __global float* slots_out, const uint stamp_out,
                       const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
                       __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
                       __global uint* flags, __global float* C, const uint n, __global float4* S_out,
@@ -223,6 +268,8 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
   const float4 vi = V[i];
   const float ri = xi.w, inv_mi = vi.w;
   float4 force = (float4)(0.0f);
+  float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
+  int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
   uint pairs = 0u, bits = 0u;
   const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
@@ -235,32 +282,50 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
           bits |= PF_OVERFLOW_BIT;
           m = PF_CELL_CAP;
         }
-        __global const uint* list = slots + cell * PF_CELL_CAP;
-        for (uint k = 0; k < m; ++k) {
-          const uint j = list[k];
-          if (j == i) continue;
-          const float4 xj = X[j];
-          float4 d = xi - xj;
-          d.w = 0.0f;
-          float d2 = dot(d, d);
-          const float rs = ri + xj.w;
-          if (d2 >= fmax(PF_RC2, fmax(rs * rs, PF_CONTACT2))) continue;
-          if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other: a fixed, antisymmetric direction */
-            d = (float4)(i < j ? -PF_D_MIN : PF_D_MIN, 0.0f, 0.0f, 0.0f);
-            d2 = PF_D_MIN * PF_D_MIN;
+        __global const float* block = slots + cell * PF_BLOCK;
+        for (uint k = 0; k < m; k += 8u) {
+          const float8 xj = vload8(0, block + k), yj = vload8(0, block + PF_CELL_CAP + k);
+          const float8 zj = vload8(0, block + 2u * PF_CELL_CAP + k), rj = vload8(0, block + 3u * PF_CELL_CAP + k);
+          const uint8 jj = as_uint8(vload8(0, block + 4u * PF_CELL_CAP + k));
+          float8 dx = xi.x - xj, dy = xi.y - yj, dz = xi.z - zj;
+          float8 d2 = dx * dx + dy * dy + dz * dz;
+          const float8 rs = ri + rj;
+          const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
+          const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+          const int8 near = (lane < (int8)((int)m)) & (jj != (uint8)(i)) & (d2 < fmax(touch2, PF_RC2));
+          if (!any(near)) continue;
+          d2 = select((float8)(1.0f), d2, near); /* masked lanes (self, stale slots) stay finite */
+          const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
+          if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
+            dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
+            dy = select(dy, (float8)(0.0f), tiny);
+            dz = select(dz, (float8)(0.0f), tiny);
+            d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
           }
-          force += pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, PF_RC2,
-                                     PF_FORCE_CAP) * d;
-          if (d2 < fmax(rs * rs, PF_CONTACT2)) {
-            const float4 vj = V[j];
-            const float4 nrm = d * rsqrt(d2);
-            float4 du = vi - vj;
-            du.w = 0.0f;
-            force += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT) * nrm;
-            pairs += (j > i && d2 < rs * rs) ? 1u : 0u;
+          const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(d2), near & (d2 < PF_RC2));
+          fx += kf * dx;
+          fy += kf * dy;
+          fz += kf * dz;
+          const int8 contact = near & (d2 < touch2);
+          if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+            const float8 inv_d = rsqrt(d2);
+            const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+            const float8 vxj = vload8(0, block + 5u * PF_CELL_CAP + k), vyj = vload8(0, block + 6u * PF_CELL_CAP + k);
+            const float8 vzj = vload8(0, block + 7u * PF_CELL_CAP + k), imj = vload8(0, block + 8u * PF_CELL_CAP + k);
+            const float8 un = (vi.x - vxj) * nx + (vi.y - vyj) * ny + (vi.z - vzj) * nz;
+            const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
+            fx += cf * nx;
+            fy += cf * ny;
+            fz += cf * nz;
+            overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
           }
         }
       }
+  pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 + overlaps.s6 +
+                   overlaps.s7));
+  force.x += fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7;
+  force.y += fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7;
+  force.z += fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7;
   float4 u = vi;
   u.w = 0.0f;
   u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
@@ -306,7 +371,7 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
   X_out[i] = xn;
   V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
   pf_cell_insert(counts_out, slots_out, pf_cell_index(pf_cell_of(xn, cell_origin, cell_inv, cell_dims), cell_dims),
-                 stamp_out, i);
+                 stamp_out, i, xn, (float4)(u.x, u.y, u.z, inv_mi));
   float4 dxn = xn - xi;
   dxn.w = 0.0f;
   S_out[i] = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), as_float(min(pairs, 0xFFFFu) | bits));

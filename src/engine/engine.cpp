@@ -85,7 +85,7 @@ struct Engine::Impl {
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
-      : device(d), params(p), constants(derive_constants(p)), program(d, {"physics.cl", "engine.cl"}, defines()) {
+      : device(d), params(p), constants(derive_constants(p)), program(d, {"physics.cl", "engine.cl"}, defines(), getenv("PF_OPTS") ? getenv("PF_OPTS") : "") {
     k_step = program.kernel("advance", params.work_group);
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
@@ -178,7 +178,7 @@ struct Engine::Impl {
       dims[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
       total *= dims[a];
     }
-    if (total * constants.cell_capacity > 1.5e9)
+    if (total * constants.cell_capacity * 9 > 1.5e9)
       throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
                   " cells; use a larger radius or a smaller domain");
     cell_origin = f4(box.lo.x, box.lo.y, box.lo.z, 0);
@@ -187,7 +187,11 @@ struct Engine::Impl {
     cell_total = static_cast<size_t>(total);
     for (int h = 0; h < 2; ++h) {
       counts[h] = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
-      slots[h] = device.make_buffer(cell_total * constants.cell_capacity * sizeof(cl_uint), "cell slots");
+      const size_t slot_bytes = cell_total * 9 * constants.cell_capacity * sizeof(cl_float);
+      slots[h] = device.make_buffer(slot_bytes, "cell slots");
+      // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
+      check_cl(device.queue().enqueueFillBuffer(slots[h], cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
+               "cell slots");
       check_cl(device.queue().enqueueFillBuffer(counts[h], cl_uint(0), 0, cell_total * sizeof(cl_uint)),
                "clEnqueueFillBuffer", "cell counts");
       stamp[h] = 0;
@@ -211,7 +215,7 @@ struct Engine::Impl {
     }
     if (stamp[cur] != 0) return;
     stamp[cur] = new_stamp();
-    k_insert.set_args(X[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
+    k_insert.set_args(X[cur], V[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
                       cl_uint(0), cl_uint(n));
     run(k_insert, n);
   }
@@ -342,7 +346,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
                                 zeros.data()), "clEnqueueWriteBuffer", "clearance");  // 0.0f has the bits of 0u
   m.n += particles.size();
   if (m.have_domain && m.stamp[m.cur] != 0) {
-    m.k_insert.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
+    m.k_insert.set_args(m.X[m.cur], m.V[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
                         m.cell_inv, m.cell_dims, cl_uint(first), cl_uint(particles.size()));
     m.run(m.k_insert, particles.size());
   }

@@ -62,8 +62,8 @@ EngineConstants derive_constants(const EngineParams& p) {
   // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
   const double s_min = 0.8 * std::min(2 * p.radius, rest);
   const double dense = std::pow(c.cell_size, 3) * 0.74 / (M_PI / 6 * std::pow(s_min, 3));
-  c.cell_capacity = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 252.0));
-  c.cell_capacity = (c.cell_capacity + 3) / 4 * 4;
+  c.cell_capacity = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 248.0));
+  c.cell_capacity = (c.cell_capacity + 7) / 8 * 8;  // whole float8 loads in the pair loop
   c.a_half = even_half(a);
   c.b_half = even_half(b);
   return c;
