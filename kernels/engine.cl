@@ -15,11 +15,21 @@
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
  * count word is (stamp << 8 | count); a count whose stamp is not the
  * current one reads as zero, so cells never need clearing. A cell's slots
- * are one block of 9 rows of PF_CELL_CAP floats holding copies of its
- * particles' x, y, z, radius, index (as uint bits), velocity x, y, z and
- * 1/mass, so the pair loop reads 8 neighbours at once as float8 vectors,
- * contacts included, without gathers (PoCL turns them into SIMD; GPUs run
- * them as unrolled scalar code).
+ * are one block of 5 rows of PF_CELL_CAP floats holding copies of its
+ * particles' x, y, z, radius and index (as uint bits), so a list build
+ * reads 8 candidates at once as float8 vectors without gathers.
+ *
+ * Neighbour lists (Verlet, with a skin): each particle keeps the indices
+ * of the particles within PF_RL of it (cutoff or contact reach, plus the
+ * skin) when the list was built, and where it was (XREF). A step that moves
+ * any particle more than half the skin from XREF raises a request flag; the
+ * next step rebuilds every list from the cells of that step (each
+ * work-item its own list, so no extra launch). Flags rotate over three
+ * words: a step reads one, raises the next, clears the third. The host
+ * forces a rebuild after births, removals and growth.
+ *
+ * The pair loop takes 8 list entries at a time as float8 vectors (PoCL
+ * turns them into SIMD; GPUs run them as unrolled scalar code).
  *
  * Per-step scalars, with no barrier in any kernel (PoCL runs barrier
  * kernels far slower): step t writes one record per particle (S); during
@@ -50,10 +60,13 @@
 #define PF_VMAX 10.0f
 #define PF_CELL_CAP 16u
 #define PF_WALL_ITERATIONS 2
+#define PF_RL2 1.6f
+#define PF_HALF_SKIN2 0.01f
+#define PF_LIST_CAP 32u
 #endif
 
 #define PF_COUNT_MASK 0xFFu
-#define PF_BLOCK (9u * PF_CELL_CAP) /* floats per cell in the slots buffer */
+#define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
 #define PF_RECORD 8
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
@@ -72,7 +85,7 @@ uint pf_cell_count(__global const uint* counts, uint cell, uint stamp) {
 }
 
 /* Adds particle i to a cell under `stamp`; a stale count restarts at zero. */
-void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint stamp, uint i, float4 x, float4 v) {
+void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint stamp, uint i, float4 x) {
   uint old = atomic_or(&counts[cell], 0u);
   for (;;) {
     const uint count = (old >> 8) == stamp ? (old & PF_COUNT_MASK) : 0u;
@@ -86,10 +99,6 @@ void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uin
         block[2u * PF_CELL_CAP] = x.z;
         block[3u * PF_CELL_CAP] = x.w;
         block[4u * PF_CELL_CAP] = as_float(i);
-        block[5u * PF_CELL_CAP] = v.x;
-        block[6u * PF_CELL_CAP] = v.y;
-        block[7u * PF_CELL_CAP] = v.z;
-        block[8u * PF_CELL_CAP] = v.w;
       }
       return;
     }
@@ -169,16 +178,14 @@ float8 pf_lj_force_scale8(float8 d2) {
 }
 
 /* Inserts particles [first, first + count) of X into the cells under `stamp`. */
-__kernel void insert_cells(__global const float4* X, __global const float4* V, __global uint* counts,
-                           __global float* slots, const uint stamp,
+__kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint stamp,
                            const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint first,
                            const uint count) {
   const uint k = get_global_id(0);
   if (k >= count) return;
   const uint i = first + k;
   const float4 x = X[i];
-  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, i, x,
-                 V[i]);
+  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, i, x);
 }
 
 /* One birth: writes particle `index` and lists it in the current cells. */
@@ -193,7 +200,7 @@ __kernel void birth_one(__global float4* X, __global float4* V, __global uint* f
   C[index] = 0.0f;
   if (stamp != 0u)
     pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, index,
-                   x, v);
+                   x);
 }
 
 /* One removal: particle `from` (the last) takes the place of `to`. */
@@ -249,6 +256,48 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
   out_count[i] = found;
 }
 
+/* Rebuilds particle i's neighbour list from the cells: indices j != i
+ * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
+ * more set the overflow bit in *bits). */
+uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
+                   int4 c, int4 cell_dims, __global uint* row, uint* bits) {
+  uint found = 0u;
+  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
+  for (int cz = lo.z; cz <= hi.z; ++cz)
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
+        uint m = pf_cell_count(counts, cell, stamp);
+        if (m > PF_CELL_CAP) {
+          *bits |= PF_OVERFLOW_BIT;
+          m = PF_CELL_CAP;
+        }
+        __global const float* block = slots + cell * PF_BLOCK;
+        for (uint k = 0; k < m; k += 8u) {
+          const float8 dx = xi.x - vload8(0, block + k), dy = xi.y - vload8(0, block + PF_CELL_CAP + k);
+          const float8 dz = xi.z - vload8(0, block + 2u * PF_CELL_CAP + k);
+          const uint8 jj = as_uint8(vload8(0, block + 4u * PF_CELL_CAP + k));
+          const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+          const int8 near = (lane < (int8)((int)m)) & (jj != (uint8)(i)) & (dx * dx + dy * dy + dz * dz < PF_RL2);
+          if (!any(near)) continue;
+          int mask[8];
+          uint js[8];
+          vstore8(near, 0, mask);
+          vstore8(jj, 0, js);
+          for (int l = 0; l < 8; ++l) {
+            if (!mask[l]) continue;
+            if (found < PF_LIST_CAP) row[found] = js[l];
+            ++found;
+          }
+        }
+      }
+  if (found > PF_LIST_CAP) {
+    *bits |= PF_OVERFLOW_BIT;
+    found = PF_LIST_CAP;
+  }
+  return found;
+}
+
 /* The whole update of one particle (see the top of the file), plus the
  * reduction work in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
  * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
@@ -260,72 +309,77 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
                       __global uint* flags, __global float* C, const uint n, __global float4* S_out,
                       __global const float4* S_prev, const uint n_prev, const uint chunk, const uint chunk_groups,
                       __global float* P_out, __global const float* P_prev, const uint groups_prev2,
-                      __global float* history, const uint slot_prev2) {
+                      __global float* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
+                      __global float4* XREF, __global uint* request, const uint request_read,
+                      const uint request_raise, const uint request_clear, const uint force_rebuild) {
   const uint i = get_global_id(0);
   pf_reduce_in_flight(i, S_prev, n_prev, chunk, chunk_groups, P_out, P_prev, groups_prev2, history, slot_prev2);
+  if (i == 0) request[request_clear] = 0u;
   if (i >= n) return;
   const float4 xi = X[i];
   const float4 vi = V[i];
   const float ri = xi.w, inv_mi = vi.w;
-  float4 force = (float4)(0.0f);
+  uint bits = 0u;
+  __global uint* row = list + (size_t)i * PF_LIST_CAP;
+  uint count;
+  if (force_rebuild || request[request_read]) {
+    count = pf_build_list(i, xi, counts, slots, stamp, pf_cell_of(xi, cell_origin, cell_inv, cell_dims), cell_dims,
+                          row, &bits);
+    list_count[i] = count;
+    XREF[i] = xi;
+  } else {
+    count = list_count[i];
+  }
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
-  uint pairs = 0u, bits = 0u;
-  const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
-  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
-  for (int cz = lo.z; cz <= hi.z; ++cz)
-    for (int cy = lo.y; cy <= hi.y; ++cy)
-      for (int cx = lo.x; cx <= hi.x; ++cx) {
-        const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
-        uint m = pf_cell_count(counts, cell, stamp);
-        if (m > PF_CELL_CAP) {
-          bits |= PF_OVERFLOW_BIT;
-          m = PF_CELL_CAP;
-        }
-        __global const float* block = slots + cell * PF_BLOCK;
-        for (uint k = 0; k < m; k += 8u) {
-          const float8 xj = vload8(0, block + k), yj = vload8(0, block + PF_CELL_CAP + k);
-          const float8 zj = vload8(0, block + 2u * PF_CELL_CAP + k), rj = vload8(0, block + 3u * PF_CELL_CAP + k);
-          const uint8 jj = as_uint8(vload8(0, block + 4u * PF_CELL_CAP + k));
-          float8 dx = xi.x - xj, dy = xi.y - yj, dz = xi.z - zj;
-          float8 d2 = dx * dx + dy * dy + dz * dz;
-          const float8 rs = ri + rj;
-          const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
-          const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-          const int8 near = (lane < (int8)((int)m)) & (jj != (uint8)(i)) & (d2 < fmax(touch2, PF_RC2));
-          if (!any(near)) continue;
-          d2 = select((float8)(1.0f), d2, near); /* masked lanes (self, stale slots) stay finite */
-          const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
-          if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
-            dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
-            dy = select(dy, (float8)(0.0f), tiny);
-            dz = select(dz, (float8)(0.0f), tiny);
-            d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
-          }
-          const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(d2), near & (d2 < PF_RC2));
-          fx += kf * dx;
-          fy += kf * dy;
-          fz += kf * dz;
-          const int8 contact = near & (d2 < touch2);
-          if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
-            const float8 inv_d = rsqrt(d2);
-            const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-            const float8 vxj = vload8(0, block + 5u * PF_CELL_CAP + k), vyj = vload8(0, block + 6u * PF_CELL_CAP + k);
-            const float8 vzj = vload8(0, block + 7u * PF_CELL_CAP + k), imj = vload8(0, block + 8u * PF_CELL_CAP + k);
-            const float8 un = (vi.x - vxj) * nx + (vi.y - vyj) * ny + (vi.z - vzj) * nz;
-            const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
-            fx += cf * nx;
-            fy += cf * ny;
-            fz += cf * nz;
-            overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
-          }
-        }
-      }
-  pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 + overlaps.s6 +
-                   overlaps.s7));
-  force.x += fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7;
-  force.y += fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7;
-  force.z += fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7;
+  for (uint k = 0; k < count; k += 8u) {
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+    const int8 valid = lane < (int8)((int)count);
+    const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
+    const float4 p0 = X[jj.s0], p1 = X[jj.s1], p2 = X[jj.s2], p3 = X[jj.s3];
+    const float4 p4 = X[jj.s4], p5 = X[jj.s5], p6 = X[jj.s6], p7 = X[jj.s7];
+    float8 dx = xi.x - (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
+    float8 dy = xi.y - (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
+    float8 dz = xi.z - (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+    const float8 rs = ri + (float8)(p0.w, p1.w, p2.w, p3.w, p4.w, p5.w, p6.w, p7.w);
+    float8 d2 = dx * dx + dy * dy + dz * dz;
+    const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
+    const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
+    if (!any(near)) continue;
+    d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
+    const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
+    if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
+      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
+      dy = select(dy, (float8)(0.0f), tiny);
+      dz = select(dz, (float8)(0.0f), tiny);
+      d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+    }
+    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(d2), near & (d2 < PF_RC2));
+    fx += kf * dx;
+    fy += kf * dy;
+    fz += kf * dz;
+    const int8 contact = near & (d2 < touch2);
+    if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+      const float4 q0 = V[jj.s0], q1 = V[jj.s1], q2 = V[jj.s2], q3 = V[jj.s3];
+      const float4 q4 = V[jj.s4], q5 = V[jj.s5], q6 = V[jj.s6], q7 = V[jj.s7];
+      const float8 inv_d = rsqrt(d2);
+      const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+      const float8 un = (vi.x - (float8)(q0.x, q1.x, q2.x, q3.x, q4.x, q5.x, q6.x, q7.x)) * nx +
+                        (vi.y - (float8)(q0.y, q1.y, q2.y, q3.y, q4.y, q5.y, q6.y, q7.y)) * ny +
+                        (vi.z - (float8)(q0.z, q1.z, q2.z, q3.z, q4.z, q5.z, q6.z, q7.z)) * nz;
+      const float8 imj = (float8)(q0.w, q1.w, q2.w, q3.w, q4.w, q5.w, q6.w, q7.w);
+      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
+      fx += cf * nx;
+      fy += cf * ny;
+      fz += cf * nz;
+      overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
+    }
+  }
+  const uint pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 +
+                              overlaps.s6 + overlaps.s7));
+  const float4 force = (float4)(fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7,
+                                fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7,
+                                fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7, 0.0f);
   float4 u = vi;
   u.w = 0.0f;
   u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
@@ -371,8 +425,11 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
   X_out[i] = xn;
   V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
   pf_cell_insert(counts_out, slots_out, pf_cell_index(pf_cell_of(xn, cell_origin, cell_inv, cell_dims), cell_dims),
-                 stamp_out, i, xn, (float4)(u.x, u.y, u.z, inv_mi));
+                 stamp_out, i, xn);
   float4 dxn = xn - xi;
   dxn.w = 0.0f;
+  float4 drift = xn - XREF[i];
+  drift.w = 0.0f;
+  if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], 1u);
   S_out[i] = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), as_float(min(pairs, 0xFFFFu) | bits));
 }

@@ -62,6 +62,9 @@ struct Engine::Impl {
   size_t n = 0, capacity = 0;
   int cur = 0;  // which half of X, V and the cells holds the current state
   cl::Buffer X[2], V[2], flags, clearance;
+  // Neighbour lists (see the top of engine.cl).
+  cl::Buffer lists, list_counts, list_origins, rebuild_requests;
+  bool lists_valid = false;  // false: the next step rebuilds every list
   // Cells: count words and slot lists, one per state half.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
@@ -93,6 +96,9 @@ struct Engine::Impl {
     k_finalize = program.kernel("finalize_history", 1);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
+    rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
+    check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "list rebuild requests");
     sdf = device.make_buffer(sizeof(float), "sdf (none)");
     sdf_dims = i4(2, 2, 2, 0);
     reserve(64);
@@ -117,7 +123,10 @@ struct Engine::Impl {
             {"PF_DAMP", flt(c.damping_factor)},
             {"PF_VMAX", flt(c.max_speed)},
             {"PF_CELL_CAP", std::to_string(c.cell_capacity) + "u"},
-            {"PF_WALL_ITERATIONS", "2"}};
+            {"PF_WALL_ITERATIONS", "2"},
+            {"PF_RL2", flt(c.list_reach * c.list_reach)},
+            {"PF_HALF_SKIN2", flt(0.25 * c.skin * c.skin)},
+            {"PF_LIST_CAP", std::to_string(c.list_capacity) + "u"}};
   }
 
   void run(Kernel& k, size_t items) {
@@ -165,6 +174,10 @@ struct Engine::Impl {
     clearance = nc;
     capacity = cap;
     for (auto& r : records) r = device.make_buffer(cap * sizeof(cl_float4), "step records");
+    lists = device.make_buffer(cap * constants.list_capacity * sizeof(cl_uint), "neighbour lists");
+    list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
+    list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
+    lists_valid = false;
     for (auto& p : partials) p = device.make_buffer((cap / 64 + 1) * kRecord * sizeof(float), "step partials");
   }
 
@@ -178,7 +191,7 @@ struct Engine::Impl {
       dims[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
       total *= dims[a];
     }
-    if (total * constants.cell_capacity * 9 > 1.5e9)
+    if (total * constants.cell_capacity * 5 > 1.5e9)
       throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
                   " cells; use a larger radius or a smaller domain");
     cell_origin = f4(box.lo.x, box.lo.y, box.lo.z, 0);
@@ -187,7 +200,7 @@ struct Engine::Impl {
     cell_total = static_cast<size_t>(total);
     for (int h = 0; h < 2; ++h) {
       counts[h] = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
-      const size_t slot_bytes = cell_total * 9 * constants.cell_capacity * sizeof(cl_float);
+      const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
       slots[h] = device.make_buffer(slot_bytes, "cell slots");
       // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
       check_cl(device.queue().enqueueFillBuffer(slots[h], cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
@@ -198,6 +211,7 @@ struct Engine::Impl {
     }
     last_stamp = 0;
     have_domain = true;
+    lists_valid = false;
   }
 
   uint32_t new_stamp() { return ++last_stamp; }
@@ -215,7 +229,7 @@ struct Engine::Impl {
     }
     if (stamp[cur] != 0) return;
     stamp[cur] = new_stamp();
-    k_insert.set_args(X[cur], V[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
+    k_insert.set_args(X[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
                       cl_uint(0), cl_uint(n));
     run(k_insert, n);
   }
@@ -245,9 +259,12 @@ struct Engine::Impl {
                     slots[nxt], cl_uint(stamp_out), cell_origin, cell_inv, cell_dims, sdf, sdf_origin, sdf_dims, flags,
                     clearance, cl_uint(n), records[now], records[last], cl_uint(last_n), cl_uint(chunk),
                     cl_uint(chunk_groups), partials[now], partials[last], cl_uint(before_groups), history,
-                    cl_uint((steps + h - 2) % h));
+                    cl_uint((steps + h - 2) % h), lists, list_counts, list_origins, rebuild_requests,
+                    cl_uint((steps + 2) % 3), cl_uint(steps % 3), cl_uint((steps + 1) % 3),
+                    cl_uint(lists_valid ? 0 : 1));
     run(k_step, std::max<size_t>({n, chunk_groups, 1}));
     before_groups = chunk_groups;
+    lists_valid = true;
     last_pending = true;
     last_n = n;
     stamp[nxt] = stamp_out;
@@ -332,6 +349,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
                        m.cell_inv, m.cell_dims, cl_uint(first), xs[0], vs[0]);
     m.run(m.k_birth, 1);
     m.n += 1;
+    m.lists_valid = false;
     return first;
   }
   auto& q = m.device.queue();
@@ -345,8 +363,9 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   check_cl(q.enqueueWriteBuffer(m.clearance, CL_TRUE, first * sizeof(cl_float), zeros.size() * sizeof(cl_float),
                                 zeros.data()), "clEnqueueWriteBuffer", "clearance");  // 0.0f has the bits of 0u
   m.n += particles.size();
+  m.lists_valid = false;
   if (m.have_domain && m.stamp[m.cur] != 0) {
-    m.k_insert.set_args(m.X[m.cur], m.V[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
+    m.k_insert.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
                         m.cell_inv, m.cell_dims, cl_uint(first), cl_uint(particles.size()));
     m.run(m.k_insert, particles.size());
   }
@@ -368,7 +387,10 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     }
     m.n -= 1;
   }
-  if (!indices.empty()) m.stamp[m.cur] = 0;  // the moved particles sit in stale cells: rebuild before the next step
+  if (!indices.empty()) {
+    m.stamp[m.cur] = 0;
+    m.lists_valid = false;
+  }  // the moved particles sit in stale cells: rebuild before the next step
 }
 
 void Engine::run_steps(size_t k) {
