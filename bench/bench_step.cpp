@@ -10,6 +10,7 @@
 //   bench_step [--big] [--quick] [--only N] [--json FILE]
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -86,6 +87,14 @@ struct Case {
   bool small;           // steps/s with the history read every 50 steps
 };
 
+// CPU seconds used by the whole process (all PoCL threads): on a shared
+// machine this is steadier than wall time.
+double process_cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return t.tv_sec + 1e-9 * t.tv_nsec;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v[v.size() / 2];
@@ -115,12 +124,13 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   const double target = quick ? 0.1 : 0.3;
   size_t steps = std::max<size_t>(10, static_cast<size_t>(target / std::max(probe, 1e-7)));
   if (c.small) steps = (steps + 49) / 50 * 50;
-  std::vector<double> rates;
+  std::vector<double> rates, cpu_per_step;
   uint32_t overflow = 0, flagged = 0;
   double ke = 0;
   for (int trial = 0; trial < (quick ? 3 : 5); ++trial) {
     engine.read_history();
     const auto start = Clock::now();
+    const double cpu_start = process_cpu_seconds();
     if (c.small) {
       for (size_t s = 0; s < steps; s += 50) {
         engine.run_steps(50);
@@ -136,6 +146,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
     }
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
     rates.push_back(steps / seconds);
+    cpu_per_step.push_back((process_cpu_seconds() - cpu_start) / steps);
   }
   for (const auto& r : engine.read_history()) {
     overflow += r.cell_overflow;
@@ -157,12 +168,13 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 
   nlohmann::json j;
   j["n"] = c.n;
-  j["cutoff"] = c.cutoff_sigma > 0 ? std::to_string(c.cutoff_sigma) + " sigma" : "repulsive";
+  j["cutoff"] = c.cutoff_sigma > 0 ? "2.5 sigma" : "repulsive";
   j["mode"] = c.small ? "steps/s, history read every 50 steps" : "particle-steps/s, no reads";
   j["steps_per_trial"] = steps;
   j["steps_per_second"] = steps_per_s;
   j["particle_steps_per_second"] = steps_per_s * c.n;
   j["us_per_step"] = 1e6 / steps_per_s;
+  j["cpu_us_per_step"] = 1e6 * median(cpu_per_step);  // all threads together
   j["kernel_us_per_step"] = kernels;
   j["cell_capacity"] = engine.constants().cell_capacity;
   j["cell_overflow_hits"] = overflow;
@@ -200,12 +212,14 @@ int main(int argc, char** argv) {
     nlohmann::json all;
     all["device"] = device.info().name;
     all["platform"] = device.info().platform;
+    all["compute_units"] = device.info().compute_units;
     for (const Case& c : cases) {
       if (only && c.n != only) continue;
       const nlohmann::json j = run_case(device, profiled, c, quick);
-      std::printf("N=%-8zu %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step  kernels(us/step):",
+      std::printf("N=%-8zu %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
                   c.n, j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),
-                  j["particle_steps_per_second"].get<double>(), j["us_per_step"].get<double>());
+                  j["particle_steps_per_second"].get<double>(), j["us_per_step"].get<double>(),
+                  j["cpu_us_per_step"].get<double>());
       for (const auto& [k, v] : j["kernel_us_per_step"].items()) std::printf(" %s %.1f", k.c_str(), v.get<double>());
       std::printf("%s\n", j["cell_overflow_hits"].get<uint32_t>() ? "  CELL OVERFLOW" : "");
       std::fflush(stdout);

@@ -4,10 +4,9 @@
  * two files compile without the prelude.
  *
  * State (float4 per particle): X = (position, radius), V = (velocity at the
- * half step, 1 / mass). One step is ONE launch of `advance`: it reads X, V and
- * the cell list built for X, and writes X', V' and the cell list for X'
- * into the other halves of ping-pong buffers, so no kernel reads what
- * another work-item writes. Leapfrog (velocity Verlet written with half-step
+ * half step, 1 / mass). The update is ONE launch of `advance`: it reads X
+ * and V and writes X' and V', the other halves of ping-pong buffers, so no
+ * work-item reads what another writes. Leapfrog (velocity Verlet written with half-step
  * velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m, F the pair
  * forces plus the contact dashpots,
  * x(t+1) = x(t) + dt u(t+1/2), then the wall.
@@ -23,10 +22,11 @@
  * of the particles within PF_RL of it (cutoff or contact reach, plus the
  * skin) when the list was built, and where it was (XREF). A step that moves
  * any particle more than half the skin from XREF raises a request flag; the
- * next step rebuilds every list from the cells of that step (each
- * work-item its own list, so no extra launch). Flags rotate over three
- * words: a step reads one, raises the next, clears the third. The host
- * forces a rebuild after births, removals and growth.
+ * next step then fills the cells (insert_cells, which returns at once
+ * otherwise) and rebuilds every list from them (each work-item its own
+ * list). Flags rotate over three words: a step reads one, raises the next,
+ * clears the third. The host forces a rebuild after births, removals and
+ * growth. A step is therefore two launches, the first nearly empty.
  *
  * The pair loop takes 8 list entries at a time as float8 vectors (PoCL
  * turns them into SIMD; GPUs run them as unrolled scalar code).
@@ -177,30 +177,26 @@ float8 pf_lj_force_scale8(float8 d2) {
   return fmin(fmax(k, -k_max), k_max);
 }
 
-/* Inserts particles [first, first + count) of X into the cells under `stamp`. */
+/* Lists every particle in the cells under `stamp`, on the steps whose
+ * lists are rebuilt (force, or the last step raised request[request_read]);
+ * otherwise returns at once. */
 __kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint stamp,
-                           const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint first,
-                           const uint count) {
-  const uint k = get_global_id(0);
-  if (k >= count) return;
-  const uint i = first + k;
+                           const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
+                           __global const uint* request, const uint request_read, const uint force) {
+  const uint i = get_global_id(0);
+  if (i >= n || !(force || request[request_read])) return;
   const float4 x = X[i];
   pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, i, x);
 }
 
-/* One birth: writes particle `index` and lists it in the current cells. */
+/* One birth: writes particle `index` (the next step rebuilds the lists). */
 __kernel void birth_one(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
-                        __global uint* counts,
-                        __global float* slots, const uint stamp, const float4 cell_origin, const float4 cell_inv,
-                        const int4 cell_dims, const uint index, const float4 x, const float4 v) {
+                        const uint index, const float4 x, const float4 v) {
   if (get_global_id(0) != 0) return;
   X[index] = x;
   V[index] = v;
   flags[index] = 0u;
   C[index] = 0.0f;
-  if (stamp != 0u)
-    pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, index,
-                   x);
 }
 
 /* One removal: particle `from` (the last) takes the place of `to`. */
@@ -303,8 +299,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
  * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
 __kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out,
                       __global float4* V_out, __global const uint* counts, __global const float* slots,
-                      const uint stamp, __global uint* counts_out, __global float* slots_out, const uint stamp_out,
-                      const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
+                      const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
                       __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
                       __global uint* flags, __global float* C, const uint n, __global float4* S_out,
                       __global const float4* S_prev, const uint n_prev, const uint chunk, const uint chunk_groups,
@@ -424,8 +419,6 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
   }
   X_out[i] = xn;
   V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
-  pf_cell_insert(counts_out, slots_out, pf_cell_index(pf_cell_of(xn, cell_origin, cell_inv, cell_dims), cell_dims),
-                 stamp_out, i, xn);
   float4 dxn = xn - xi;
   dxn.w = 0.0f;
   float4 drift = xn - XREF[i];

@@ -60,18 +60,17 @@ struct Engine::Impl {
   Kernel k_step, k_insert, k_birth, k_move, k_finalize, k_neighbours;
 
   size_t n = 0, capacity = 0;
-  int cur = 0;  // which half of X, V and the cells holds the current state
+  int cur = 0;  // which half of X and V holds the current state
   cl::Buffer X[2], V[2], flags, clearance;
   // Neighbour lists (see the top of engine.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
   bool lists_valid = false;  // false: the next step rebuilds every list
-  // Cells: count words and slot lists, one per state half.
+  // Cells (filled only on steps that rebuild the lists): count words and slots.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
   size_t cell_total = 0;
   bool have_domain = false;
-  cl::Buffer counts[2], slots[2];
-  uint32_t stamp[2] = {0, 0};  // stamp under which cells[h] lists X[h]; 0: not built
+  cl::Buffer counts, slots;
   uint32_t last_stamp = 0;
   // Field.
   cl::Buffer sdf;
@@ -88,7 +87,7 @@ struct Engine::Impl {
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
-      : device(d), params(p), constants(derive_constants(p)), program(d, {"physics.cl", "engine.cl"}, defines(), getenv("PF_OPTS") ? getenv("PF_OPTS") : "") {
+      : device(d), params(p), constants(derive_constants(p)), program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", params.work_group);
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
@@ -198,39 +197,39 @@ struct Engine::Impl {
     cell_inv = f4(1 / cs, 1 / cs, 1 / cs, 0);
     cell_dims = i4(dims[0], dims[1], dims[2], 0);
     cell_total = static_cast<size_t>(total);
-    for (int h = 0; h < 2; ++h) {
-      counts[h] = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
-      const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
-      slots[h] = device.make_buffer(slot_bytes, "cell slots");
-      // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
-      check_cl(device.queue().enqueueFillBuffer(slots[h], cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
-               "cell slots");
-      check_cl(device.queue().enqueueFillBuffer(counts[h], cl_uint(0), 0, cell_total * sizeof(cl_uint)),
-               "clEnqueueFillBuffer", "cell counts");
-      stamp[h] = 0;
-    }
+    counts = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
+    const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
+    slots = device.make_buffer(slot_bytes, "cell slots");
+    // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
+    check_cl(device.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
+             "cell slots");
+    check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "cell counts");
     last_stamp = 0;
     have_domain = true;
     lists_valid = false;
   }
 
-  uint32_t new_stamp() { return ++last_stamp; }
+  // A stamp no count word holds yet; on wrap the counts are cleared.
+  uint32_t new_stamp() {
+    if (last_stamp + 1 >= kStampLimit) {
+      check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
+               "clEnqueueFillBuffer", "cell counts");
+      last_stamp = 0;
+    }
+    return ++last_stamp;
+  }
 
-  // Lists X[cur] in cells[cur] under a fresh stamp, when not already done.
-  void ensure_cells() {
+  void require_domain() const {
     if (!have_domain)
       throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
-    if (last_stamp + 4 >= kStampLimit) {  // wrap: clear both count buffers and start again
-      for (auto& c : counts)
-        check_cl(device.queue().enqueueFillBuffer(c, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
-                 "clEnqueueFillBuffer", "cell counts");
-      last_stamp = 0;
-      stamp[0] = stamp[1] = 0;
-    }
-    if (stamp[cur] != 0) return;
-    stamp[cur] = new_stamp();
-    k_insert.set_args(X[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
-                      cl_uint(0), cl_uint(n));
+  }
+
+  // Lists X[cur] in the cells under `stamp` when `force` or when the list
+  // rebuild request of the last step is raised (decided on the device).
+  void insert_cells(uint32_t stamp, bool force) {
+    k_insert.set_args(X[cur], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims, cl_uint(n),
+                      rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
     run(k_insert, n);
   }
 
@@ -247,27 +246,29 @@ struct Engine::Impl {
     before_groups = 0;
   }
 
+  // One step: the cells (only when lists will be rebuilt), then the update.
   void step() {
+    require_domain();
     if (steps - history_read >= params.history_capacity) drain_history();
     const int nxt = 1 - cur;
-    const uint32_t stamp_out = new_stamp();
+    const uint32_t stamp = new_stamp();
+    const bool force = !lists_valid;
+    insert_cells(stamp, force);
     const size_t h = params.history_capacity;
     const int now = static_cast<int>(steps % 2), last = 1 - now;
     const size_t chunk = chunk_for(last_n);
     const size_t chunk_groups = last_pending ? (last_n + chunk - 1) / chunk : 0;
-    k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts[cur], slots[cur], cl_uint(stamp[cur]), counts[nxt],
-                    slots[nxt], cl_uint(stamp_out), cell_origin, cell_inv, cell_dims, sdf, sdf_origin, sdf_dims, flags,
-                    clearance, cl_uint(n), records[now], records[last], cl_uint(last_n), cl_uint(chunk),
-                    cl_uint(chunk_groups), partials[now], partials[last], cl_uint(before_groups), history,
-                    cl_uint((steps + h - 2) % h), lists, list_counts, list_origins, rebuild_requests,
-                    cl_uint((steps + 2) % 3), cl_uint(steps % 3), cl_uint((steps + 1) % 3),
-                    cl_uint(lists_valid ? 0 : 1));
+    k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims,
+                    sdf, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), records[now], records[last],
+                    cl_uint(last_n), cl_uint(chunk), cl_uint(chunk_groups), partials[now], partials[last],
+                    cl_uint(before_groups), history, cl_uint((steps + h - 2) % h), lists, list_counts, list_origins,
+                    rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3), cl_uint((steps + 1) % 3),
+                    cl_uint(force ? 1 : 0));
     run(k_step, std::max<size_t>({n, chunk_groups, 1}));
     before_groups = chunk_groups;
     lists_valid = true;
     last_pending = true;
     last_n = n;
-    stamp[nxt] = stamp_out;
     cur = nxt;
     ++steps;
   }
@@ -340,16 +341,11 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
+  m.lists_valid = false;  // the next step lists the newcomers
   if (particles.size() == 1) {
-    // Without a domain there are no cells yet: stamp 0 lists nothing, and the
-    // flags buffer stands in for the absent cell buffers.
-    const bool cells = m.have_domain;
-    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cells ? m.counts[m.cur] : m.flags,
-                       cells ? m.slots[m.cur] : m.flags, cl_uint(cells ? m.stamp[m.cur] : 0), m.cell_origin,
-                       m.cell_inv, m.cell_dims, cl_uint(first), xs[0], vs[0]);
+    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(first), xs[0], vs[0]);
     m.run(m.k_birth, 1);
     m.n += 1;
-    m.lists_valid = false;
     return first;
   }
   auto& q = m.device.queue();
@@ -363,12 +359,6 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   check_cl(q.enqueueWriteBuffer(m.clearance, CL_TRUE, first * sizeof(cl_float), zeros.size() * sizeof(cl_float),
                                 zeros.data()), "clEnqueueWriteBuffer", "clearance");  // 0.0f has the bits of 0u
   m.n += particles.size();
-  m.lists_valid = false;
-  if (m.have_domain && m.stamp[m.cur] != 0) {
-    m.k_insert.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
-                        m.cell_inv, m.cell_dims, cl_uint(first), cl_uint(particles.size()));
-    m.run(m.k_insert, particles.size());
-  }
   return first;
 }
 
@@ -387,18 +377,12 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     }
     m.n -= 1;
   }
-  if (!indices.empty()) {
-    m.stamp[m.cur] = 0;
-    m.lists_valid = false;
-  }  // the moved particles sit in stale cells: rebuild before the next step
+  if (!indices.empty()) m.lists_valid = false;  // lists hold old indices  // the moved particles sit in stale cells: rebuild before the next step
 }
 
 void Engine::run_steps(size_t k) {
   Impl& m = *impl_;
-  for (size_t s = 0; s < k; ++s) {
-    m.ensure_cells();
-    m.step();
-  }
+  for (size_t s = 0; s < k; ++s) m.step();
 }
 
 std::vector<StepRecord> Engine::read_history() {
@@ -447,11 +431,13 @@ void Engine::finish() { impl_->device.finish(); }
 
 std::vector<std::vector<uint32_t>> Engine::neighbour_lists() {
   Impl& m = *impl_;
-  m.ensure_cells();
+  m.require_domain();
+  const uint32_t stamp = m.new_stamp();
+  m.insert_cells(stamp, true);
   const cl_uint max_out = 256;
   cl::Buffer counts = m.device.make_buffer(std::max<size_t>(m.n, 1) * sizeof(cl_uint), "neighbour counts");
   cl::Buffer lists = m.device.make_buffer(std::max<size_t>(m.n, 1) * max_out * sizeof(cl_uint), "neighbour lists");
-  m.k_neighbours.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
+  m.k_neighbours.set_args(m.X[m.cur], m.counts, m.slots, cl_uint(stamp), m.cell_origin,
                           m.cell_inv, m.cell_dims, cl_uint(m.n), counts, lists, max_out);
   m.run(m.k_neighbours, m.n);
   std::vector<cl_uint> c(m.n), l(m.n * max_out);
