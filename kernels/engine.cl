@@ -154,10 +154,11 @@ void pf_reduce_in_flight(uint k, __global const float4* S_prev, uint n_prev, uin
   if (k == 0 && groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
 }
 
-/* pf_lj_force_scale of physics.cl for 8 squared distances at once, with the
- * prelude's constants (the same formula; the oracle tests tie the two). */
-float8 pf_lj_force_scale8(float8 d2) {
-  const float8 x = PF_SIGMA2 / d2;
+/* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
+ * 1/d, with the prelude's constants (the same formula with the divisions
+ * shared; the oracle tests tie the two). */
+float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
+  const float8 x = PF_SIGMA2 * inv_d2;
 #if PF_EXP_B_HALF > 0
   float8 sb = x;
   for (int k = 1; k < PF_EXP_B_HALF; ++k) sb *= x;
@@ -172,8 +173,8 @@ float8 pf_lj_force_scale8(float8 d2) {
 #else
   const float8 sa = pow(x, (float8)(0.5f * PF_EXP_A));
 #endif
-  const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) / d2;
-  const float8 k_max = PF_FORCE_CAP * rsqrt(d2);
+  const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) * inv_d2;
+  const float8 k_max = PF_FORCE_CAP * inv_d;
   return fmin(fmax(k, -k_max), k_max);
 }
 
@@ -349,7 +350,8 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
       dz = select(dz, (float8)(0.0f), tiny);
       d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
     }
-    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(d2), near & (d2 < PF_RC2));
+    const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
+    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
     fx += kf * dx;
     fy += kf * dy;
     fz += kf * dz;
@@ -357,7 +359,6 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
     if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
       const float4 q0 = V[jj.s0], q1 = V[jj.s1], q2 = V[jj.s2], q3 = V[jj.s3];
       const float4 q4 = V[jj.s4], q5 = V[jj.s5], q6 = V[jj.s6], q7 = V[jj.s7];
-      const float8 inv_d = rsqrt(d2);
       const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
       const float8 un = (vi.x - (float8)(q0.x, q1.x, q2.x, q3.x, q4.x, q5.x, q6.x, q7.x)) * nx +
                         (vi.y - (float8)(q0.y, q1.y, q2.y, q3.y, q4.y, q5.y, q6.y, q7.y)) * ny +
