@@ -84,6 +84,7 @@ struct Engine::Impl {
   size_t before_groups = 0;   // >0: partials[(steps - 1) % 2] hold step steps-2, unreduced
   uint64_t steps = 0, history_read = 0;
   std::vector<StepRecord> backlog;
+  std::vector<float> history_host;  // read-back staging, kept to avoid an allocation per read
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
@@ -278,9 +279,18 @@ struct Engine::Impl {
     reduce_pending();
     const size_t count = steps - history_read, cap = params.history_capacity;
     if (count == 0) return;
-    std::vector<float> raw(cap * kRecord);
-    check_cl(device.queue().enqueueReadBuffer(history, CL_TRUE, 0, raw.size() * sizeof(float), raw.data()),
+    // Read only the unread slots: one piece, or two when they wrap around.
+    std::vector<float>& raw = history_host;
+    raw.resize(cap * kRecord);
+    const size_t first = history_read % cap, wrapped = std::min(count, cap - first);
+    check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, first * kRecord * sizeof(float),
+                                              wrapped * kRecord * sizeof(float), &raw[first * kRecord]),
              "clEnqueueReadBuffer", "history");
+    if (count > wrapped)
+      check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, 0, (count - wrapped) * kRecord * sizeof(float),
+                                                raw.data()),
+               "clEnqueueReadBuffer", "history");
+    device.finish();
     for (uint64_t s = history_read; s < steps; ++s) {
       const float* r = &raw[(s % cap) * kRecord];
       StepRecord rec;
