@@ -85,6 +85,7 @@ struct Case {
   size_t n;
   double cutoff_sigma;  // 0: purely repulsive
   bool small;           // steps/s with the history read every 50 steps
+  bool births = false;  // also one birth a step (and one removal, to keep N), as the fill does
 };
 
 // CPU seconds used by the whole process (all PoCL threads): on a shared
@@ -110,6 +111,15 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   const double h = fcc_system(c.n, ps);
   const ScalarGrid field = box_field(h, kRadius / 2);
 
+  // Births: two lattice sites A and B are left empty; each step the newest
+  // particle is removed and a newcomer (at rest) is born at the other site.
+  std::vector<Particle> sites;
+  if (c.births) {
+    sites = {ps[0], ps[1]};
+    for (auto& q : sites) q.velocity = {};
+    ps.erase(ps.begin(), ps.begin() + 2);
+    ps.push_back(sites[0]);
+  }
   Engine engine(device, p);
   engine.set_field(field);
   engine.add_particles(ps);
@@ -133,7 +143,15 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
     const double cpu_start = process_cpu_seconds();
     if (c.small) {
       for (size_t s = 0; s < steps; s += 50) {
-        engine.run_steps(50);
+        if (c.births) {
+          for (size_t b = 0; b < 50; ++b) {  // the newest particle leaves, a newcomer is born at the other site
+            engine.remove_particles({engine.size() - 1});
+            engine.add_particle(sites[(s + b) % 2]);
+            engine.run_steps(1);
+          }
+        } else {
+          engine.run_steps(50);
+        }
         for (const auto& r : engine.read_history()) {  // what the stopping tests read
           overflow += r.cell_overflow;
           flagged += r.flagged;
@@ -169,7 +187,8 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   nlohmann::json j;
   j["n"] = c.n;
   j["cutoff"] = c.cutoff_sigma > 0 ? "2.5 sigma" : "repulsive";
-  j["mode"] = c.small ? "steps/s, history read every 50 steps" : "particle-steps/s, no reads";
+  j["mode"] = c.births ? "steps/s, history read every 50 steps, one birth and one removal a step (N-1 particles)"
+                       : c.small ? "steps/s, history read every 50 steps" : "particle-steps/s, no reads";
   j["steps_per_trial"] = steps;
   j["steps_per_second"] = steps_per_s;
   j["particle_steps_per_second"] = steps_per_s * c.n;
@@ -209,6 +228,7 @@ int main(int argc, char** argv) {
     for (size_t n : large)
       for (double rc : {2.5, 0.0}) cases.push_back({n, rc, false});
     for (size_t n : {500, 1000, 4000}) cases.push_back({n, 0.0, true});
+    cases.push_back({4000, 0.0, true, true});
     nlohmann::json all;
     all["device"] = device.info().name;
     all["platform"] = device.info().platform;
@@ -216,8 +236,8 @@ int main(int argc, char** argv) {
     for (const Case& c : cases) {
       if (only && c.n != only) continue;
       const nlohmann::json j = run_case(device, profiled, c, quick);
-      std::printf("N=%-8zu %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
-                  c.n, j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),
+      std::printf("N=%-6zu%s %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
+                  c.n, c.births ? "+b" : "  ", j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),
                   j["particle_steps_per_second"].get<double>(), j["us_per_step"].get<double>(),
                   j["cpu_us_per_step"].get<double>());
       for (const auto& [k, v] : j["kernel_us_per_step"].items()) std::printf(" %s %.1f", k.c_str(), v.get<double>());

@@ -25,8 +25,9 @@
  * next step then fills the cells (insert_cells, which returns at once
  * otherwise) and rebuilds every list from them (each work-item its own
  * list). Flags rotate over three words: a step reads one, raises the next,
- * clears the third. The host forces a rebuild after births, removals and
- * growth. A step is therefore two launches, the first nearly empty.
+ * clears the third. Births and removals while the lists are valid update
+ * them in place (birth_linked, remove_linked); bulk additions and growth
+ * force a rebuild. A step is therefore two launches, the first nearly empty.
  *
  * The pair loop takes 8 list entries at a time as float8 vectors (PoCL
  * turns them into SIMD; GPUs run them as unrolled scalar code).
@@ -63,6 +64,7 @@
 #define PF_RL2 1.6f
 #define PF_HALF_SKIN2 0.01f
 #define PF_LIST_CAP 32u
+#define PF_BIRTH_RL2 2.0f
 #endif
 
 #define PF_COUNT_MASK 0xFFu
@@ -200,6 +202,78 @@ __kernel void birth_one(__global float4* X, __global float4* V, __global uint* f
   C[index] = 0.0f;
 }
 
+/* One birth while the lists are valid (one launch over n + 1 items, n
+ * the count before the birth): item i < n lists the newcomer b = n if it is
+ * within PF_BIRTH_RL of it (the list reach plus half the skin: i may already
+ * have used half its skin), and takes a slot in b's list (list_count[b] is
+ * 0 beforehand); item n writes the newcomer. A full list raises the rebuild
+ * request the next step reads. */
+__kernel void birth_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                           __global uint* list, __global uint* list_count, __global float4* XREF,
+                           __global uint* request, const uint request_next, const uint n, const float4 x,
+                           const float4 v) {
+  const uint i = get_global_id(0);
+  if (i == n) {
+    X[n] = x;
+    V[n] = v;
+    flags[n] = 0u;
+    C[n] = 0.0f;
+    XREF[n] = x;
+    return;
+  }
+  if (i > n) return;
+  float4 d = X[i] - x;
+  d.w = 0.0f;
+  if (dot(d, d) >= PF_BIRTH_RL2) return;
+  const uint mine = list_count[i];
+  const uint slot = atomic_inc(&list_count[n]);
+  if (mine < PF_LIST_CAP && slot < PF_LIST_CAP) {
+    list[(size_t)i * PF_LIST_CAP + mine] = n;
+    list_count[i] = mine + 1u;
+    list[(size_t)n * PF_LIST_CAP + slot] = i;
+  } else {
+    atomic_or(&request[request_next], 1u);
+  }
+}
+
+/* One removal while the lists are valid (one launch over n items, n the
+ * count before it): particle `last` = n - 1 takes the place of `gone`. Item
+ * `gone` copies the last particle's state and list (without `gone`); every
+ * other item but `last` drops `gone` from its own list and renames `last`
+ * to `gone`. The host then zeroes list_count[last]. */
+__kernel void remove_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                            __global uint* list, __global uint* list_count, __global float4* XREF, const uint n,
+                            const uint gone) {
+  const uint i = get_global_id(0);
+  const uint last = n - 1u;
+  if (i >= last) return;
+  __global uint* row = list + (size_t)i * PF_LIST_CAP;
+  if (i == gone) {
+    X[i] = X[last];
+    V[i] = V[last];
+    flags[i] = flags[last];
+    C[i] = C[last];
+    XREF[i] = XREF[last];
+    __global const uint* from = list + (size_t)last * PF_LIST_CAP;
+    const uint count = min(list_count[last], PF_LIST_CAP);
+    uint kept = 0u;
+    for (uint k = 0; k < count; ++k)
+      if (from[k] != gone) row[kept++] = from[k];
+    list_count[i] = kept;
+    return;
+  }
+  uint count = min(list_count[i], PF_LIST_CAP);
+  for (uint k = 0; k < count;) {
+    if (row[k] == gone) {
+      row[k] = row[--count];
+    } else {
+      if (row[k] == last) row[k] = gone;
+      ++k;
+    }
+  }
+  list_count[i] = count;
+}
+
 /* One removal: particle `from` (the last) takes the place of `to`. */
 __kernel void move_particle(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
                             const uint from, const uint to) {
@@ -324,7 +398,7 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
     list_count[i] = count;
     XREF[i] = xi;
   } else {
-    count = list_count[i];
+    count = min(list_count[i], PF_LIST_CAP);
   }
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */

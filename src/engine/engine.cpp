@@ -57,7 +57,7 @@ struct Engine::Impl {
   EngineParams params;
   EngineConstants constants;
   Program program;
-  Kernel k_step, k_insert, k_birth, k_move, k_finalize, k_neighbours;
+  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours;
 
   size_t n = 0, capacity = 0;
   int cur = 0;  // which half of X and V holds the current state
@@ -93,6 +93,8 @@ struct Engine::Impl {
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
     k_move = program.kernel("move_particle", 1);
+    k_birth_linked = program.kernel("birth_linked", params.work_group);
+    k_remove_linked = program.kernel("remove_linked", params.work_group);
     k_finalize = program.kernel("finalize_history", 1);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
@@ -126,7 +128,8 @@ struct Engine::Impl {
             {"PF_WALL_ITERATIONS", "2"},
             {"PF_RL2", flt(c.list_reach * c.list_reach)},
             {"PF_HALF_SKIN2", flt(0.25 * c.skin * c.skin)},
-            {"PF_LIST_CAP", std::to_string(c.list_capacity) + "u"}};
+            {"PF_LIST_CAP", std::to_string(c.list_capacity) + "u"},
+            {"PF_BIRTH_RL2", flt(std::pow(c.list_reach + 0.5 * c.skin, 2))}};
   }
 
   void run(Kernel& k, size_t items) {
@@ -176,6 +179,9 @@ struct Engine::Impl {
     for (auto& r : records) r = device.make_buffer(cap * sizeof(cl_float4), "step records");
     lists = device.make_buffer(cap * constants.list_capacity * sizeof(cl_uint), "neighbour lists");
     list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
+    // Counts past the last particle stay 0: a linked birth counts up from there.
+    check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "neighbour list counts");
     list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
     lists_valid = false;
     for (auto& p : partials) p = device.make_buffer((cap / 64 + 1) * kRecord * sizeof(float), "step partials");
@@ -351,6 +357,14 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
+  if (particles.size() == 1 && m.lists_valid) {  // link it into the lists in place
+    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
+                              m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
+                              vs[0]);
+    m.run(m.k_birth_linked, first + 1);
+    m.n += 1;
+    return first;
+  }
   m.lists_valid = false;  // the next step lists the newcomers
   if (particles.size() == 1) {
     m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(first), xs[0], vs[0]);
@@ -381,13 +395,19 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       throw Error("engine: cannot remove particle " + std::to_string(idx) + " of " + std::to_string(m.n));
   for (size_t idx : indices) {
     const size_t last = m.n - 1;
-    if (idx != last) {
+    if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
+      m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
+                                 m.list_origins, cl_uint(m.n), cl_uint(idx));
+      m.run(m.k_remove_linked, m.n);
+    } else if (idx != last) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
     }
+    // Counts past the last particle stay 0 (a linked birth counts up from there).
+    check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "neighbour list count");
     m.n -= 1;
   }
-  if (!indices.empty()) m.lists_valid = false;  // lists hold old indices  // the moved particles sit in stale cells: rebuild before the next step
 }
 
 void Engine::run_steps(size_t k) {
