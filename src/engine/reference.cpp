@@ -4,6 +4,8 @@
 #include "pfill/engine/reference.hpp"
 
 #include <algorithm>
+#include <functional>
+#include <string>
 #include <cmath>
 #include <math.h>
 
@@ -53,6 +55,18 @@ void ReferenceEngine::add_particles(const std::vector<Particle>& particles) {
     if (p.mass == 0) p.mass = particle_mass(params_, p.radius);
     particles_.push_back(p);
     flags_.push_back(false);
+  }
+}
+
+void ReferenceEngine::remove_particles(std::vector<size_t> indices) {
+  std::sort(indices.begin(), indices.end(), std::greater<size_t>());
+  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  for (size_t idx : indices) {
+    if (idx >= particles_.size()) throw Error("reference: cannot remove particle " + std::to_string(idx));
+    particles_[idx] = particles_.back();
+    flags_[idx] = flags_.back();
+    particles_.pop_back();
+    flags_.pop_back();
   }
 }
 
