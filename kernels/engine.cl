@@ -6,10 +6,10 @@
  * State (float4 per particle): X = (position, radius), V = (velocity at the
  * half step, 1 / mass). The update is ONE launch of `advance`: it reads X
  * and V and writes X' and V', the other halves of ping-pong buffers, so no
- * work-item reads what another writes. Leapfrog (velocity Verlet written with half-step
- * velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m, F the pair
- * forces plus the contact dashpots,
- * x(t+1) = x(t) + dt u(t+1/2), then the wall.
+ * work-item reads what another writes. Leapfrog (velocity Verlet written
+ * with half-step velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m,
+ * F the pair forces plus the contact dashpots, x(t+1) = x(t) + dt u(t+1/2),
+ * then the wall.
  *
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
  * count word is (stamp << 8 | count); a count whose stamp is not the
@@ -32,8 +32,8 @@
  * The pair loop takes 8 list entries at a time as float8 vectors (PoCL
  * turns them into SIMD; GPUs run them as unrolled scalar code).
  *
- * Per-step scalars, with no barrier in any kernel (PoCL runs barrier
- * kernels far slower): step t writes one record per particle (S); during
+ * Per-step scalars, with no barrier and no launch of their own: step t
+ * writes one record per particle (S); during
  * step t+1, work-item k sums chunk k of step t's records into a partial (P);
  * during step t+2, work-item 0 sums those partials into the HISTORY record
  * of step t: 8 words, kinetic energy, max speed, max displacement, 0, then
