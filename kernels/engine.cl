@@ -327,6 +327,19 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
   out_count[i] = found;
 }
 
+/* Sorts a list row by index. The cells list particles in the order their
+ * atomic insertions happened, which varies run to run on a multi-threaded
+ * device; a sorted list sums the forces in one order, so the same input
+ * gives the same particles. */
+void pf_sort_row(__global uint* row, uint count) {
+  for (uint k = 1; k < count; ++k) {
+    const uint v = row[k];
+    uint m = k;
+    for (; m > 0 && row[m - 1] > v; --m) row[m] = row[m - 1];
+    row[m] = v;
+  }
+}
+
 /* Rebuilds particle i's neighbour list from the cells: indices j != i
  * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
  * more set the overflow bit in *bits). */
@@ -366,6 +379,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
     *bits |= PF_OVERFLOW_BIT;
     found = PF_LIST_CAP;
   }
+  pf_sort_row(row, found);
   return found;
 }
 
@@ -381,7 +395,8 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
                       __global float* P_out, __global const float* P_prev, const uint groups_prev2,
                       __global float* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
                       __global float4* XREF, __global uint* request, const uint request_read,
-                      const uint request_raise, const uint request_clear, const uint force_rebuild) {
+                      const uint request_raise, const uint request_clear, const uint force_rebuild,
+                      const int4 sort_rows) {
   const uint i = get_global_id(0);
   pf_reduce_in_flight(i, S_prev, n_prev, chunk, chunk_groups, P_out, P_prev, groups_prev2, history, slot_prev2);
   if (i == 0) request[request_clear] = 0u;
@@ -399,6 +414,8 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
     XREF[i] = xi;
   } else {
     count = min(list_count[i], PF_LIST_CAP);
+    /* newcomers' lists were filled by atomics (birth_linked): sort them once */
+    if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
   }
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */

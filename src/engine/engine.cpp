@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <sstream>
 
 #include "pfill/device/device.hpp"
@@ -65,6 +66,7 @@ struct Engine::Impl {
   // Neighbour lists (see the top of engine.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
   bool lists_valid = false;  // false: the next step rebuilds every list
+  std::vector<int> newcomers;  // linked births since the last step: their lists get sorted (at most 4)
   // Cells (filled only on steps that rebuild the lists): count words and slots.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
@@ -253,6 +255,12 @@ struct Engine::Impl {
     before_groups = 0;
   }
 
+  cl_int4 sort_rows() const {
+    int r[4] = {-1, -1, -1, -1};
+    for (size_t k = 0; k < newcomers.size() && k < 4; ++k) r[k] = newcomers[k];
+    return i4(r[0], r[1], r[2], r[3]);
+  }
+
   // One step: the cells (only when lists will be rebuilt), then the update.
   void step() {
     require_domain();
@@ -270,8 +278,9 @@ struct Engine::Impl {
                     cl_uint(last_n), cl_uint(chunk), cl_uint(chunk_groups), partials[now], partials[last],
                     cl_uint(before_groups), history, cl_uint((steps + h - 2) % h), lists, list_counts, list_origins,
                     rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3), cl_uint((steps + 1) % 3),
-                    cl_uint(force ? 1 : 0));
+                    cl_uint(force ? 1 : 0), sort_rows());
     run(k_step, std::max<size_t>({n, chunk_groups, 1}));
+    newcomers.clear();
     before_groups = chunk_groups;
     lists_valid = true;
     last_pending = true;
@@ -357,11 +366,12 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
-  if (particles.size() == 1 && m.lists_valid) {  // link it into the lists in place
+  if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
     m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                               m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
+    m.newcomers.push_back(static_cast<int>(first));
     m.n += 1;
     return first;
   }
@@ -399,6 +409,11 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                                  m.list_origins, cl_uint(m.n), cl_uint(idx));
       m.run(m.k_remove_linked, m.n);
+      // A newcomer's unsorted row moves with it from `last` to `idx`.
+      for (int& k : m.newcomers)
+        if (k == static_cast<int>(idx)) k = -1;
+      for (int& k : m.newcomers)
+        if (k == static_cast<int>(last)) k = static_cast<int>(idx);
     } else if (idx != last) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
