@@ -19,7 +19,7 @@ procs=${PFILL_LAMMPS_PROCS:-2}
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-# lammps_rate CELLS CUTOFF STEPS THERMO -> prints "atoms steps/s"
+# lammps_rate CELLS CUTOFF STEPS THERMO -> prints "atoms steps/s cpu-seconds/step"
 lammps_rate() {
   local cells=$1 cutoff=$2 steps=$3 thermo=$4
   cat > "$work/in.lj" <<IN
@@ -43,25 +43,43 @@ run 20
 run $steps
 IN
   mpirun --allow-run-as-root --oversubscribe -np "$procs" lmp -sf opt -in "$work/in.lj" -log none -screen "$work/out.txt" >/dev/null 2>&1
-  # The last "Loop time of T on P procs for S steps with N atoms" is the timed run.
-  grep "^Loop time" "$work/out.txt" | tail -1 | awk '{print $12, $9 / $4}'
+  # The last "Loop time of T on P procs for S steps with N atoms" and the
+  # "C% CPU use with P MPI tasks" after it are the timed run's.
+  local loop cpu
+  loop=$(grep "^Loop time" "$work/out.txt" | tail -1)
+  cpu=$(grep "% CPU use with" "$work/out.txt" | tail -1 | sed 's/%.*//')
+  echo "$loop" | awk -v cpu="$cpu" '{print $12, $9 / $4, $4 * $6 * cpu / 100 / $9}'
 }
 
-# pfill_rate N CUTOFF_LABEL -> steps/s from bench_step's text line
+# pfill_rate N CUTOFF_LABEL -> "steps/s cpu-seconds/step" from bench_step's text line
 pfill_rate() {
   "$bench" --only "$1" | awk -v label="$2" '/^N=/ && index($0, label) && !index($0, "+b") {
-    for (i = 1; i < NF; ++i) if ($(i + 1) == "steps/s") { print $i; exit } }'
+    for (i = 1; i < NF; ++i) {
+      if ($(i + 1) == "steps/s") rate = $i
+      if ($(i + 1) == "cpu-us/step") cpu = $i / 1e6
+    }
+    print rate, cpu; exit }'
 }
 
-printf "%-34s %14s %14s %8s\n" "case" "LAMMPS" "pfill" "ratio"
+# row LABEL UNIT_SCALE LAMMPS_RATE LAMMPS_CPU PFILL_RATE PFILL_CPU: rates (x scale), wall
+# ratio, and the ratio of CPU time per step (steadier on a shared machine).
+row() {
+  awk -v name="$1" -v k="$2" -v lr="$3" -v lc="$4" -v pr="$5" -v pc="$6" 'BEGIN {
+    printf "%-34s %12.4g %12.4g %7.2f %11.2f\n", name, lr * k, pr * k, pr / lr, lc / pc }'
+}
+
+printf "%-34s %12s %12s %7s %11s\n" "case" "LAMMPS" "pfill" "ratio" "cpu ratio"
 for cutoff in 2.5 1.122462; do
   label=$([ "$cutoff" = 2.5 ] && echo "2.5 sigma" || echo "repulsive")
-  read -r atoms lsteps < <(lammps_rate 29 "$cutoff" 200 1000)
-  l=$(awk -v a="$atoms" -v s="$lsteps" 'BEGIN {printf "%.4g", a * s}')
-  p=$(awk -v s="$(pfill_rate 100000 "$label")" 'BEGIN {printf "%.4g", s * 100000}')
-  printf "%-34s %14s %14s %8.2f\n" "N=1e5 $label (particle-steps/s)" "$l" "$p" "$(awk -v a="$p" -v b="$l" 'BEGIN {print a / b}')"
+  read -r atoms lsteps lcpu < <(lammps_rate 29 "$cutoff" 200 1000)
+  read -r psteps pcpu < <(pfill_rate 100000 "$label")
+  # Per particle: LAMMPS has 4 * 29^3 atoms, pfill 1e5.
+  row "N=1e5 $label (particle-steps/s)" 1 "$(awk -v a="$atoms" -v s="$lsteps" 'BEGIN {print a * s}')" \
+      "$(awk -v a="$atoms" -v c="$lcpu" 'BEGIN {print c / a}')" "$(awk -v s="$psteps" 'BEGIN {print s * 1e5}')" \
+      "$(awk -v c="$pcpu" 'BEGIN {print c / 1e5}')"
 done
-read -r atoms lsteps < <(lammps_rate 10 1.122462 4000 1)
-p=$(pfill_rate 4000 "repulsive")
-printf "%-34s %14.0f %14.0f %8.2f\n" "N=4000 repulsive (steps/s, thermo)" "$lsteps" "$p" "$(awk -v a="$p" -v b="$lsteps" 'BEGIN {print a / b}')"
+read -r atoms lsteps lcpu < <(lammps_rate 10 1.122462 4000 1)
+read -r psteps pcpu < <(pfill_rate 4000 "repulsive")
+row "N=4000 repulsive (steps/s, thermo)" 1 "$lsteps" "$lcpu" "$psteps" "$pcpu"
+echo "ratio: pfill / LAMMPS wall rates; cpu ratio: LAMMPS / pfill CPU time per particle-step (all processes or threads)."
 echo "(LAMMPS: $procs MPI processes, -sf opt; pfill $("$bench" --only 1 | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg))"
