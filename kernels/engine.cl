@@ -4,22 +4,45 @@
  * two files compile without the prelude.
  *
  * State (float4 per particle): X = (position, radius), V = (velocity at the
- * half step, 1 / mass). One step is ONE launch of `advance`: it reads X, V and
- * the cell list built for X, and writes X', V' and the cell list for X'
- * into the other halves of ping-pong buffers, so no kernel reads what
- * another work-item writes. Leapfrog (velocity Verlet written with half-step
- * velocities): u(t+1/2) = u(t-1/2) + dt F(x(t))/m + contact impulses/m,
- * x(t+1) = x(t) + dt u(t+1/2), then the wall.
+ * half step, 1 / mass). The update is ONE launch of `advance`: it reads X
+ * and V and writes X' and V', the other halves of ping-pong buffers, so no
+ * work-item reads what another writes. Leapfrog (velocity Verlet written
+ * with half-step velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m,
+ * F the pair forces plus the contact dashpots, x(t+1) = x(t) + dt u(t+1/2),
+ * then the wall.
  *
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
  * count word is (stamp << 8 | count); a count whose stamp is not the
- * current one reads as zero, so cells never need clearing.
+ * current one reads as zero, so cells never need clearing. A cell's slots
+ * are one block of 5 rows of PF_CELL_CAP floats holding copies of its
+ * particles' x, y, z, radius and index (as uint bits), so a list build
+ * reads 8 candidates at once as float8 vectors without gathers.
  *
- * Per-step scalars: every work-group reduces its particles into a partial
- * record; group 0 of the next step (or finalize_history) reduces the
- * previous step's partials into one HISTORY record of 8 words:
- * kinetic energy, max speed, max displacement, 0, then as uints: colliding
- * pairs, flagged particles, cells over capacity, particle count. */
+ * Neighbour lists (Verlet, with a skin): each particle keeps the indices
+ * of the particles within PF_RL of it (cutoff or contact reach, plus the
+ * skin) when the list was built, and where it was (XREF). A step that moves
+ * any particle more than half the skin from XREF raises a request flag; the
+ * next step then fills the cells (insert_cells, which returns at once
+ * otherwise) and rebuilds every list from them (each work-item its own
+ * list). Flags rotate over three words: a step reads one, raises the next,
+ * clears the third. Births and removals while the lists are valid update
+ * them in place (birth_linked, remove_linked); bulk additions and growth
+ * force a rebuild. A step is therefore two launches, the first nearly empty.
+ *
+ * The pair loop takes 8 list entries at a time as float8 vectors (PoCL
+ * turns them into SIMD; GPUs run them as unrolled scalar code).
+ *
+ * Per-step scalars, with no barrier and no launch of their own: step t
+ * writes one record per particle (S); during
+ * step t+1, work-item k sums chunk k of step t's records into a partial (P);
+ * during step t+2, work-item 0 sums those partials into the HISTORY record
+ * of step t: 8 words, kinetic energy, max speed, max displacement, 0, then
+ * as uints: colliding pairs, flagged particles, cell-overflow hits, particle
+ * count. finalize_history finishes the (at most two) steps still in flight.
+ *
+ * Wall clearance: C[i] is a lower bound on how far particle i's sphere is
+ * from the wall; it shrinks by 2 |dx| a step (the trilinear field changes
+ * by at most sqrt(3) |dx|) and the field is sampled only when it reaches 0. */
 #ifndef PF_SIGMA2
 #define PF_SIGMA2 1.0f
 #define PF_EPS 1.0f
@@ -30,16 +53,22 @@
 #define PF_RC2 1.2599210f
 #define PF_FORCE_CAP 100.0f
 #define PF_D_MIN 0.001f
-#define PF_RESTITUTION 0.5f
+#define PF_DASHPOT 3.6f
+#define PF_CONTACT2 1.0f
 #define PF_WALL_RESTITUTION 0.5f
 #define PF_DT 0.005f
 #define PF_DAMP 1.0f
 #define PF_VMAX 10.0f
 #define PF_CELL_CAP 16u
 #define PF_WALL_ITERATIONS 2
+#define PF_RL2 1.6f
+#define PF_HALF_SKIN2 0.01f
+#define PF_LIST_CAP 32u
+#define PF_BIRTH_RL2 2.0f
 #endif
 
 #define PF_COUNT_MASK 0xFFu
+#define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
 #define PF_RECORD 8
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
@@ -58,98 +87,216 @@ uint pf_cell_count(__global const uint* counts, uint cell, uint stamp) {
 }
 
 /* Adds particle i to a cell under `stamp`; a stale count restarts at zero. */
-void pf_cell_insert(__global uint* counts, __global uint* slots, uint cell, uint stamp, uint i) {
+void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint stamp, uint i, float4 x) {
   uint old = atomic_or(&counts[cell], 0u);
   for (;;) {
     const uint count = (old >> 8) == stamp ? (old & PF_COUNT_MASK) : 0u;
     const uint want = (stamp << 8) | min(count + 1u, PF_COUNT_MASK);
     const uint seen = atomic_cmpxchg(&counts[cell], old, want);
     if (seen == old) {
-      if (count < PF_CELL_CAP) slots[cell * PF_CELL_CAP + count] = i;
+      if (count < PF_CELL_CAP) {
+        __global float* block = slots + cell * PF_BLOCK + count;
+        block[0] = x.x;
+        block[PF_CELL_CAP] = x.y;
+        block[2u * PF_CELL_CAP] = x.z;
+        block[3u * PF_CELL_CAP] = x.w;
+        block[4u * PF_CELL_CAP] = as_float(i);
+      }
       return;
     }
     old = seen;
   }
 }
 
-/* Tree reduction of a work-group: x, w summed, y, z maxima of lf; x, y, z
- * summed, w maximum of lu. The result is in element 0. Work-group size must
- * be a power of two. */
-void pf_group_reduce(__local float4* lf, __local uint4* lu) {
-  const uint lid = get_local_id(0);
-  for (uint s = get_local_size(0) / 2; s > 0; s >>= 1) {
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (lid < s) {
-      const float4 a = lf[lid], b = lf[lid + s];
-      lf[lid] = (float4)(a.x + b.x, fmax(a.y, b.y), fmax(a.z, b.z), a.w + b.w);
-      const uint4 p = lu[lid], q = lu[lid + s];
-      lu[lid] = (uint4)(p.x + q.x, p.y + q.y, p.z + q.z, max(p.w, q.w));
-    }
+/* Per-particle record: (kinetic energy, speed, displacement, packed
+ * counters: pairs in bits 0-15, flagged bit 16, overflow bit 17). */
+#define PF_FLAGGED_BIT 0x10000u
+#define PF_OVERFLOW_BIT 0x20000u
+
+/* Sums particle records [first, end) into one partial record at out. */
+void pf_sum_records(__global const float4* S, uint first, uint end, uint n, __global float* out) {
+  float ke = 0.0f, speed = 0.0f, disp = 0.0f;
+  uint pairs = 0u, flagged = 0u, overflow = 0u;
+  for (uint k = first; k < end; ++k) {
+    const float4 r = S[k];
+    const uint bits = as_uint(r.w);
+    ke += r.x;
+    speed = fmax(speed, r.y);
+    disp = fmax(disp, r.z);
+    pairs += bits & 0xFFFFu;
+    flagged += (bits >> 16) & 1u;
+    overflow += (bits >> 17) & 1u;
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
+  vstore4((float4)(ke, speed, disp, 0.0f), 0, out);
+  vstore4(as_float4((uint4)(pairs, flagged, overflow, n)), 1, out);
 }
 
-/* Reduces `groups` partial records into history[slot]; all items of one group call it. */
-void pf_partials_to_history(__global const float* partials, uint groups, __global float* history, uint slot,
-                            __local float4* lf, __local uint4* lu) {
-  const uint lid = get_local_id(0);
+/* Sums `groups` partial records into one history record at out. */
+void pf_sum_partials(__global const float* P, uint groups, __global float* out) {
   float4 f = (float4)(0.0f);
   uint4 u = (uint4)(0u);
-  for (uint g = lid; g < groups; g += get_local_size(0)) {
-    const float4 pf = vload4(0, partials + g * PF_RECORD);
-    const uint4 pu = as_uint4(vload4(1, partials + g * PF_RECORD));
+  for (uint g = 0; g < groups; ++g) {
+    const float4 pf = vload4(0, P + g * PF_RECORD);
+    const uint4 pu = as_uint4(vload4(1, P + g * PF_RECORD));
     f = (float4)(f.x + pf.x, fmax(f.y, pf.y), fmax(f.z, pf.z), 0.0f);
     u = (uint4)(u.x + pu.x, u.y + pu.y, u.z + pu.z, max(u.w, pu.w));
   }
-  barrier(CLK_LOCAL_MEM_FENCE);
-  lf[lid] = f;
-  lu[lid] = u;
-  pf_group_reduce(lf, lu);
-  if (lid == 0) {
-    vstore4(lf[0], 0, history + slot * PF_RECORD);
-    vstore4(as_float4(lu[0]), 1, history + slot * PF_RECORD);
-  }
+  vstore4(f, 0, out);
+  vstore4(as_float4(u), 1, out);
 }
 
-/* Inserts particles [first, first + count) of X into the cells under `stamp`. */
-__kernel void insert_cells(__global const float4* X, __global uint* counts, __global uint* slots, const uint stamp,
-                           const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint first,
-                           const uint count) {
-  const uint k = get_global_id(0);
-  if (k >= count) return;
-  const uint i = first + k;
-  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(X[i], cell_origin, cell_inv, cell_dims), cell_dims), stamp, i);
+/* The reduction work that rides along a step: work-item k < chunk_groups
+ * sums chunk k of the previous step's records; work-item 0 turns the
+ * partials of the step before into its history record. */
+void pf_reduce_in_flight(uint k, __global const float4* S_prev, uint n_prev, uint chunk, uint chunk_groups,
+                         __global float* P_out, __global const float* P_prev, uint groups_prev2,
+                         __global float* history, uint slot_prev2) {
+  if (k < chunk_groups)
+    pf_sum_records(S_prev, k * chunk, min(n_prev, (k + 1u) * chunk), n_prev, P_out + k * PF_RECORD);
+  if (k == 0 && groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
 }
 
-/* One birth: writes particle `index` and lists it in the current cells. */
-__kernel void birth_one(__global float4* X, __global float4* V, __global uint* flags, __global uint* counts,
-                        __global uint* slots, const uint stamp, const float4 cell_origin, const float4 cell_inv,
-                        const int4 cell_dims, const uint index, const float4 x, const float4 v) {
+/* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
+ * 1/d, with the prelude's constants (the same formula with the divisions
+ * shared; the oracle tests tie the two). */
+float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
+  const float8 x = PF_SIGMA2 * inv_d2;
+#if PF_EXP_B_HALF > 0
+  float8 sb = x;
+  for (int k = 1; k < PF_EXP_B_HALF; ++k) sb *= x;
+#else
+  const float8 sb = pow(x, (float8)(0.5f * PF_EXP_B));
+#endif
+#if PF_EXP_B_HALF > 0 && PF_EXP_A_HALF == 2 * PF_EXP_B_HALF
+  const float8 sa = sb * sb;
+#elif PF_EXP_A_HALF > 0
+  float8 sa = x;
+  for (int k = 1; k < PF_EXP_A_HALF; ++k) sa *= x;
+#else
+  const float8 sa = pow(x, (float8)(0.5f * PF_EXP_A));
+#endif
+  const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) * inv_d2;
+  const float8 k_max = PF_FORCE_CAP * inv_d;
+  return fmin(fmax(k, -k_max), k_max);
+}
+
+/* Lists every particle in the cells under `stamp`, on the steps whose
+ * lists are rebuilt (force, or the last step raised request[request_read]);
+ * otherwise returns at once. */
+__kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint stamp,
+                           const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
+                           __global const uint* request, const uint request_read, const uint force) {
+  const uint i = get_global_id(0);
+  if (i >= n || !(force || request[request_read])) return;
+  const float4 x = X[i];
+  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, i, x);
+}
+
+/* One birth: writes particle `index` (the next step rebuilds the lists). */
+__kernel void birth_one(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                        const uint index, const float4 x, const float4 v) {
   if (get_global_id(0) != 0) return;
   X[index] = x;
   V[index] = v;
   flags[index] = 0u;
-  if (stamp != 0u) pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, index);
+  C[index] = 0.0f;
+}
+
+/* One birth while the lists are valid (one launch over n + 1 items, n
+ * the count before the birth): item i < n lists the newcomer b = n if it is
+ * within PF_BIRTH_RL of it (the list reach plus half the skin: i may already
+ * have used half its skin), and takes a slot in b's list (list_count[b] is
+ * 0 beforehand); item n writes the newcomer. A full list raises the rebuild
+ * request the next step reads. */
+__kernel void birth_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                           __global uint* list, __global uint* list_count, __global float4* XREF,
+                           __global uint* request, const uint request_next, const uint n, const float4 x,
+                           const float4 v) {
+  const uint i = get_global_id(0);
+  if (i == n) {
+    X[n] = x;
+    V[n] = v;
+    flags[n] = 0u;
+    C[n] = 0.0f;
+    XREF[n] = x;
+    return;
+  }
+  if (i > n) return;
+  float4 d = X[i] - x;
+  d.w = 0.0f;
+  if (dot(d, d) >= PF_BIRTH_RL2) return;
+  const uint mine = list_count[i];
+  const uint slot = atomic_inc(&list_count[n]);
+  if (mine < PF_LIST_CAP && slot < PF_LIST_CAP) {
+    list[(size_t)i * PF_LIST_CAP + mine] = n;
+    list_count[i] = mine + 1u;
+    list[(size_t)n * PF_LIST_CAP + slot] = i;
+  } else {
+    atomic_or(&request[request_next], 1u);
+  }
+}
+
+/* One removal while the lists are valid (one launch over n items, n the
+ * count before it): particle `last` = n - 1 takes the place of `gone`. Item
+ * `gone` copies the last particle's state and list (without `gone`); every
+ * other item but `last` drops `gone` from its own list and renames `last`
+ * to `gone`. The host then zeroes list_count[last]. */
+__kernel void remove_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                            __global uint* list, __global uint* list_count, __global float4* XREF, const uint n,
+                            const uint gone) {
+  const uint i = get_global_id(0);
+  const uint last = n - 1u;
+  if (i >= last) return;
+  __global uint* row = list + (size_t)i * PF_LIST_CAP;
+  if (i == gone) {
+    X[i] = X[last];
+    V[i] = V[last];
+    flags[i] = flags[last];
+    C[i] = C[last];
+    XREF[i] = XREF[last];
+    __global const uint* from = list + (size_t)last * PF_LIST_CAP;
+    const uint count = min(list_count[last], PF_LIST_CAP);
+    uint kept = 0u;
+    for (uint k = 0; k < count; ++k)
+      if (from[k] != gone) row[kept++] = from[k];
+    list_count[i] = kept;
+    return;
+  }
+  uint count = min(list_count[i], PF_LIST_CAP);
+  for (uint k = 0; k < count;) {
+    if (row[k] == gone) {
+      row[k] = row[--count];
+    } else {
+      if (row[k] == last) row[k] = gone;
+      ++k;
+    }
+  }
+  list_count[i] = count;
 }
 
 /* One removal: particle `from` (the last) takes the place of `to`. */
-__kernel void move_particle(__global float4* X, __global float4* V, __global uint* flags, const uint from,
-                            const uint to) {
+__kernel void move_particle(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
+                            const uint from, const uint to) {
   if (get_global_id(0) != 0) return;
   X[to] = X[from];
   V[to] = V[from];
   flags[to] = flags[from];
+  C[to] = C[from];
 }
 
-/* Reduces the last step's partial records into its history slot. */
-__kernel void finalize_history(__global const float* partials, const uint groups, __global float* history,
-                               const uint slot, __local float4* lf, __local uint4* lu) {
-  pf_partials_to_history(partials, groups, history, slot, lf, lu);
+/* Finishes the steps in flight (one work-item): the record of the last
+ * step (S_prev, if n_prev_valid) and the partials of the one before. */
+__kernel void finalize_history(__global const float4* S_prev, const uint n_prev, const uint have_prev,
+                               __global float* history, const uint slot_prev, __global const float* P_prev,
+                               const uint groups_prev2, const uint slot_prev2) {
+  if (get_global_id(0) != 0) return;
+  if (groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
+  if (have_prev) pf_sum_records(S_prev, 0u, n_prev, n_prev, history + slot_prev * PF_RECORD);
 }
 
 /* For tests: the indices of each particle's neighbours (pairs the step
  * considers: d^2 < max(rc^2, (r_i + r_j)^2)), at most max_out each. */
-__kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const uint* slots,
+__kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const float* slots,
                               const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
                               const uint n, __global uint* out_count, __global uint* out, const uint max_out) {
   const uint i = get_global_id(0);
@@ -165,7 +312,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
         const uint cell = pf_cell_index(cc, cell_dims);
         const uint m = min(pf_cell_count(counts, cell, stamp), PF_CELL_CAP);
         for (uint k = 0; k < m; ++k) {
-          const uint j = slots[cell * PF_CELL_CAP + k];
+          const uint j = as_uint(slots[cell * PF_BLOCK + 4u * PF_CELL_CAP + k]);
           if (j == i) continue;
           const float4 xj = X[j];
           float4 d = xi - xj;
@@ -180,71 +327,156 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
   out_count[i] = found;
 }
 
-/* The whole update of one particle (see the top of the file). walls.w != 0
- * when a field is set: sdf_origin = (origin, 1/spacing), sdf_dims = (nx, ny, nz, has_walls). */
-__kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
-                   __global const uint* counts, __global const uint* slots, const uint stamp,
-                   __global uint* counts_out, __global uint* slots_out, const uint stamp_out,
-                   const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
-                   __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
-                   __global uint* flags, const uint n,
-                   __global float* partials, __global const float* prev_partials, const uint prev_groups,
-                   __global float* history, const uint prev_slot,
-                   __local float4* lf, __local uint4* lu) {
-  const uint i = get_global_id(0);
-  float4 red_f = (float4)(0.0f);  /* kinetic energy, speed, displacement, 0 */
-  uint4 red_u = (uint4)(0u, 0u, 0u, n);  /* colliding pairs, flagged, overflow, count */
-  if (i < n) {
-    const float4 xi = X[i];
-    const float4 vi = V[i];
-    const float ri = xi.w, inv_mi = vi.w;
-    float4 force = (float4)(0.0f), impulse = (float4)(0.0f);
-    const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          const int4 cc = c + (int4)(dx, dy, dz, 0);
-          if (any(cc.xyz < (int3)(0)) || any(cc.xyz >= cell_dims.xyz)) continue;
-          const uint cell = pf_cell_index(cc, cell_dims);
-          uint m = pf_cell_count(counts, cell, stamp);
-          if (m > PF_CELL_CAP) {
-            red_u.z = 1u;
-            m = PF_CELL_CAP;
-          }
-          __global const uint* list = slots + cell * PF_CELL_CAP;
-          for (uint k = 0; k < m; ++k) {
-            const uint j = list[k];
-            if (j == i) continue;
-            const float4 xj = X[j];
-            float4 d = xi - xj;
-            d.w = 0.0f;
-            float d2 = dot(d, d);
-            const float rs = ri + xj.w;
-            if (d2 >= fmax(PF_RC2, rs * rs)) continue;
-            if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other: a fixed, antisymmetric direction */
-              d = (float4)(i < j ? -PF_D_MIN : PF_D_MIN, 0.0f, 0.0f, 0.0f);
-              d2 = PF_D_MIN * PF_D_MIN;
-            }
-            force += pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF,
-                                       PF_RC2, PF_FORCE_CAP) * d;
-            if (d2 < rs * rs) {
-              const float4 vj = V[j];
-              const float4 nrm = d * rsqrt(d2);
-              float4 du = vi - vj;
-              du.w = 0.0f;
-              impulse += pf_contact_impulse(dot(du, nrm), inv_mi, vj.w, PF_RESTITUTION) * nrm;
-              red_u.x += (j > i) ? 1u : 0u;
-            }
+/* Sorts a list row by index. The cells list particles in the order their
+ * atomic insertions happened, which varies run to run on a multi-threaded
+ * device; a sorted list sums the forces in one order, so the same input
+ * gives the same particles. */
+void pf_sort_row(__global uint* row, uint count) {
+  for (uint k = 1; k < count; ++k) {
+    const uint v = row[k];
+    uint m = k;
+    for (; m > 0 && row[m - 1] > v; --m) row[m] = row[m - 1];
+    row[m] = v;
+  }
+}
+
+/* Rebuilds particle i's neighbour list from the cells: indices j != i
+ * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
+ * more set the overflow bit in *bits). */
+uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
+                   int4 c, int4 cell_dims, __global uint* row, uint* bits) {
+  uint found = 0u;
+  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
+  for (int cz = lo.z; cz <= hi.z; ++cz)
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
+        uint m = pf_cell_count(counts, cell, stamp);
+        if (m > PF_CELL_CAP) {
+          *bits |= PF_OVERFLOW_BIT;
+          m = PF_CELL_CAP;
+        }
+        __global const float* block = slots + cell * PF_BLOCK;
+        for (uint k = 0; k < m; k += 8u) {
+          const float8 dx = xi.x - vload8(0, block + k), dy = xi.y - vload8(0, block + PF_CELL_CAP + k);
+          const float8 dz = xi.z - vload8(0, block + 2u * PF_CELL_CAP + k);
+          const uint8 jj = as_uint8(vload8(0, block + 4u * PF_CELL_CAP + k));
+          const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+          const int8 near = (lane < (int8)((int)m)) & (jj != (uint8)(i)) & (dx * dx + dy * dy + dz * dz < PF_RL2);
+          if (!any(near)) continue;
+          int mask[8];
+          uint js[8];
+          vstore8(near, 0, mask);
+          vstore8(jj, 0, js);
+          for (int l = 0; l < 8; ++l) {
+            if (!mask[l]) continue;
+            if (found < PF_LIST_CAP) row[found] = js[l];
+            ++found;
           }
         }
-    float4 u = vi;
-    u.w = 0.0f;
-    u = (u + (PF_DT * inv_mi) * force + inv_mi * impulse) * PF_DAMP;
-    const float speed = length(u);
-    if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
-    float4 xn = xi + PF_DT * u;
-    xn.w = ri;
-    if (sdf_dims.w != 0) {
+      }
+  if (found > PF_LIST_CAP) {
+    *bits |= PF_OVERFLOW_BIT;
+    found = PF_LIST_CAP;
+  }
+  pf_sort_row(row, found);
+  return found;
+}
+
+/* The whole update of one particle (see the top of the file), plus the
+ * reduction work in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
+ * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
+__kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out,
+                      __global float4* V_out, __global const uint* counts, __global const float* slots,
+                      const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
+                      __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
+                      __global uint* flags, __global float* C, const uint n, __global float4* S_out,
+                      __global const float4* S_prev, const uint n_prev, const uint chunk, const uint chunk_groups,
+                      __global float* P_out, __global const float* P_prev, const uint groups_prev2,
+                      __global float* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
+                      __global float4* XREF, __global uint* request, const uint request_read,
+                      const uint request_raise, const uint request_clear, const uint force_rebuild,
+                      const int4 sort_rows) {
+  const uint i = get_global_id(0);
+  pf_reduce_in_flight(i, S_prev, n_prev, chunk, chunk_groups, P_out, P_prev, groups_prev2, history, slot_prev2);
+  if (i == 0) request[request_clear] = 0u;
+  if (i >= n) return;
+  const float4 xi = X[i];
+  const float4 vi = V[i];
+  const float ri = xi.w, inv_mi = vi.w;
+  uint bits = 0u;
+  __global uint* row = list + (size_t)i * PF_LIST_CAP;
+  uint count;
+  if (force_rebuild || request[request_read]) {
+    count = pf_build_list(i, xi, counts, slots, stamp, pf_cell_of(xi, cell_origin, cell_inv, cell_dims), cell_dims,
+                          row, &bits);
+    list_count[i] = count;
+    XREF[i] = xi;
+  } else {
+    count = min(list_count[i], PF_LIST_CAP);
+    /* newcomers' lists were filled by atomics (birth_linked): sort them once */
+    if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
+  }
+  float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
+  int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
+  for (uint k = 0; k < count; k += 8u) {
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+    const int8 valid = lane < (int8)((int)count);
+    const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
+    const float4 p0 = X[jj.s0], p1 = X[jj.s1], p2 = X[jj.s2], p3 = X[jj.s3];
+    const float4 p4 = X[jj.s4], p5 = X[jj.s5], p6 = X[jj.s6], p7 = X[jj.s7];
+    float8 dx = xi.x - (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
+    float8 dy = xi.y - (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
+    float8 dz = xi.z - (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+    const float8 rs = ri + (float8)(p0.w, p1.w, p2.w, p3.w, p4.w, p5.w, p6.w, p7.w);
+    float8 d2 = dx * dx + dy * dy + dz * dz;
+    const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
+    const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
+    if (!any(near)) continue;
+    d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
+    const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
+    if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
+      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
+      dy = select(dy, (float8)(0.0f), tiny);
+      dz = select(dz, (float8)(0.0f), tiny);
+      d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+    }
+    const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
+    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
+    fx += kf * dx;
+    fy += kf * dy;
+    fz += kf * dz;
+    const int8 contact = near & (d2 < touch2);
+    if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+      const float4 q0 = V[jj.s0], q1 = V[jj.s1], q2 = V[jj.s2], q3 = V[jj.s3];
+      const float4 q4 = V[jj.s4], q5 = V[jj.s5], q6 = V[jj.s6], q7 = V[jj.s7];
+      const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+      const float8 un = (vi.x - (float8)(q0.x, q1.x, q2.x, q3.x, q4.x, q5.x, q6.x, q7.x)) * nx +
+                        (vi.y - (float8)(q0.y, q1.y, q2.y, q3.y, q4.y, q5.y, q6.y, q7.y)) * ny +
+                        (vi.z - (float8)(q0.z, q1.z, q2.z, q3.z, q4.z, q5.z, q6.z, q7.z)) * nz;
+      const float8 imj = (float8)(q0.w, q1.w, q2.w, q3.w, q4.w, q5.w, q6.w, q7.w);
+      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
+      fx += cf * nx;
+      fy += cf * ny;
+      fz += cf * nz;
+      overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
+    }
+  }
+  const uint pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 +
+                              overlaps.s6 + overlaps.s7));
+  const float4 force = (float4)(fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7,
+                                fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7,
+                                fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7, 0.0f);
+  float4 u = vi;
+  u.w = 0.0f;
+  u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
+  const float speed = length(u);
+  if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
+  float4 xn = xi + PF_DT * u;
+  xn.w = ri;
+  if (sdf_dims.w != 0) {
+    float clearance = C[i] - 2.0f * PF_DT * length(u);
+    if (clearance <= 0.0f) {
       float g[3];
       float phi = pf_sdf_sample(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
                                 sdf_origin.w, xn.x, xn.y, xn.z, g);
@@ -252,9 +484,10 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
       const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
                               grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
                               grid_pos.z > (float)(sdf_dims.z - 1);
-      const uint flagged = (phi > 0.0f || outside_box) ? 1u : 0u;
-      red_u.y = flagged;
-      if (flagged) flags[i] = 1u;
+      if (phi > 0.0f || outside_box) {
+        bits |= PF_FLAGGED_BIT;
+        flags[i] = 1u;
+      }
       if (phi > -ri) {
         for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
           const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
@@ -272,22 +505,16 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
           u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
         }
       }
+      clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
     }
-    X_out[i] = xn;
-    V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
-    pf_cell_insert(counts_out, slots_out, pf_cell_index(pf_cell_of(xn, cell_origin, cell_inv, cell_dims), cell_dims),
-                   stamp_out, i);
-    float4 dxn = xn - xi;
-    dxn.w = 0.0f;
-    red_f = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), 0.0f);
+    C[i] = clearance;
   }
-  const uint lid = get_local_id(0);
-  lf[lid] = red_f;
-  lu[lid] = red_u;
-  pf_group_reduce(lf, lu);
-  if (lid == 0) {
-    vstore4(lf[0], 0, partials + get_group_id(0) * PF_RECORD);
-    vstore4(as_float4(lu[0]), 1, partials + get_group_id(0) * PF_RECORD);
-  }
-  if (get_group_id(0) == 0 && prev_groups > 0) pf_partials_to_history(prev_partials, prev_groups, history, prev_slot, lf, lu);
+  X_out[i] = xn;
+  V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
+  float4 dxn = xn - xi;
+  dxn.w = 0.0f;
+  float4 drift = xn - XREF[i];
+  drift.w = 0.0f;
+  if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], 1u);
+  S_out[i] = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), as_float(min(pairs, 0xFFFFu) | bits));
 }

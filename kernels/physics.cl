@@ -52,13 +52,17 @@ PF_FN PF_REAL pf_lj_energy(PF_REAL d2, PF_REAL sigma2, PF_REAL eps, PF_REAL a, P
   return (PF_REAL)4 * eps * (u - uc);
 }
 
-/* Inelastic contact of spheres i and j that overlap (d < r_i + r_j); n is
- * the unit vector from j to i and un = (u_i - u_j).n. While they approach
- * (un < 0) the impulse on i is J n, J = -(1 + e) un / (1/m_i + 1/m_j), and
- * j receives -J n: momentum is exact, the normal relative velocity becomes
- * -e un. Returns J (0 while they separate). */
-PF_FN PF_REAL pf_contact_impulse(PF_REAL un, PF_REAL inv_mass_i, PF_REAL inv_mass_j, PF_REAL restitution) {
-  return un < (PF_REAL)0 ? -((PF_REAL)1 + restitution) * un / (inv_mass_i + inv_mass_j) : (PF_REAL)0;
+/* Inelastic contact: a linear dashpot between spheres i and j while they
+ * are in contact (d < max(r_i + r_j, rest distance)); n is the unit vector
+ * from j to i and un = (u_i - u_j).n. The force on i is c n with
+ *   c = -gamma un,  gamma = 2 zeta sqrt(k m_eff),  m_eff = 1 / (1/m_i + 1/m_j),
+ * and j receives -c n, so momentum is exact. dashpot = 2 zeta sqrt(k), with
+ * k the potential's stiffness at the rest distance and zeta the damping
+ * ratio giving restitution e for that linearised contact:
+ * zeta = -ln e / sqrt(pi^2 + ln^2 e) (0 for e = 1: no dissipation).
+ * Returns c. */
+PF_FN PF_REAL pf_contact_damping(PF_REAL un, PF_REAL inv_mass_i, PF_REAL inv_mass_j, PF_REAL dashpot) {
+  return -dashpot * sqrt((PF_REAL)1 / (inv_mass_i + inv_mass_j)) * un;
 }
 
 /* Wall response: with outward unit normal n and un = u.n, a sphere moving

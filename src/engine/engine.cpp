@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <utility>
 #include <sstream>
 
 #include "pfill/device/device.hpp"
@@ -57,30 +58,35 @@ struct Engine::Impl {
   EngineParams params;
   EngineConstants constants;
   Program program;
-  Kernel k_step, k_insert, k_birth, k_move, k_finalize, k_neighbours;
+  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours;
 
   size_t n = 0, capacity = 0;
-  int cur = 0;  // which half of X, V and the cells holds the current state
-  cl::Buffer X[2], V[2], flags;
-  // Cells: count words and slot lists, one per state half.
+  int cur = 0;  // which half of X and V holds the current state
+  cl::Buffer X[2], V[2], flags, clearance;
+  // Neighbour lists (see the top of engine.cl).
+  cl::Buffer lists, list_counts, list_origins, rebuild_requests;
+  bool lists_valid = false;  // false: the next step rebuilds every list
+  std::vector<int> newcomers;  // linked births since the last step: their lists get sorted (at most 4)
+  // Cells (filled only on steps that rebuild the lists): count words and slots.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
   size_t cell_total = 0;
   bool have_domain = false;
-  cl::Buffer counts[2], slots[2];
-  uint32_t stamp[2] = {0, 0};  // stamp under which cells[h] lists X[h]; 0: not built
+  cl::Buffer counts, slots;
   uint32_t last_stamp = 0;
   // Field.
   cl::Buffer sdf;
   cl_float4 sdf_origin{};
   cl_int4 sdf_dims{};
-  // Per-step scalars.
-  cl::Buffer partials[2], history;
-  size_t partial_groups = 0;  // capacity of each partials buffer, in records
-  int partial_half = 0;       // the half the next step writes
-  size_t pending_groups = 0;  // >0: partials[1 - partial_half] hold an unreduced step
+  // Per-step scalars in flight (see the top of engine.cl): particle records
+  // S of the last step, partials P of the one before.
+  cl::Buffer records[2], partials[2], history;
+  bool last_pending = false;  // records[(steps - 1) % 2] hold step steps-1, unreduced
+  size_t last_n = 0;
+  size_t before_groups = 0;   // >0: partials[(steps - 1) % 2] hold step steps-2, unreduced
   uint64_t steps = 0, history_read = 0;
   std::vector<StepRecord> backlog;
+  std::vector<float> history_host;  // read-back staging, kept to avoid an allocation per read
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
@@ -89,9 +95,14 @@ struct Engine::Impl {
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
     k_move = program.kernel("move_particle", 1);
-    k_finalize = program.kernel("finalize_history", params.work_group);
+    k_birth_linked = program.kernel("birth_linked", params.work_group);
+    k_remove_linked = program.kernel("remove_linked", params.work_group);
+    k_finalize = program.kernel("finalize_history", 1);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
+    rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
+    check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "list rebuild requests");
     sdf = device.make_buffer(sizeof(float), "sdf (none)");
     sdf_dims = i4(2, 2, 2, 0);
     reserve(64);
@@ -109,13 +120,18 @@ struct Engine::Impl {
             {"PF_RC2", flt(c.cutoff * c.cutoff)},
             {"PF_FORCE_CAP", flt(c.force_cap)},
             {"PF_D_MIN", flt(1e-3 * c.sigma)},
-            {"PF_RESTITUTION", flt(params.restitution)},
+            {"PF_DASHPOT", flt(c.dashpot)},
+            {"PF_CONTACT2", flt(c.contact_distance * c.contact_distance)},
             {"PF_WALL_RESTITUTION", flt(params.wall_restitution)},
             {"PF_DT", flt(c.dt)},
             {"PF_DAMP", flt(c.damping_factor)},
             {"PF_VMAX", flt(c.max_speed)},
             {"PF_CELL_CAP", std::to_string(c.cell_capacity) + "u"},
-            {"PF_WALL_ITERATIONS", "2"}};
+            {"PF_WALL_ITERATIONS", "2"},
+            {"PF_RL2", flt(c.list_reach * c.list_reach)},
+            {"PF_HALF_SKIN2", flt(0.25 * c.skin * c.skin)},
+            {"PF_LIST_CAP", std::to_string(c.list_capacity) + "u"},
+            {"PF_BIRTH_RL2", flt(std::pow(c.list_reach + 0.5 * c.skin, 2))}};
   }
 
   void run(Kernel& k, size_t items) {
@@ -127,9 +143,12 @@ struct Engine::Impl {
     }
   }
 
-  size_t groups_for(size_t count) const {
-    const size_t wg = k_step.work_group();
-    return std::max<size_t>(1, (count + wg - 1) / wg);
+  // Records summed by one work-item: about sqrt(n), at least 64, so that
+  // neither the chunk sums nor the final sum of partials is long.
+  static size_t chunk_for(size_t count) {
+    size_t c = 64;
+    while (c * c < count) c *= 2;
+    return c;
   }
 
   // Room for `want` particles: doubling, state copied on the device.
@@ -137,27 +156,37 @@ struct Engine::Impl {
     if (want <= capacity) return;
     size_t cap = std::max<size_t>(capacity, 64);
     while (cap < want) cap *= 2;
-    reduce_pending();  // partials are reallocated below
+    reduce_pending();  // the record buffers are reallocated below
     cl::Buffer nx[2], nv[2];
     for (int h = 0; h < 2; ++h) {
       nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
       nv[h] = device.make_buffer(cap * sizeof(cl_float4), "velocities");
     }
     cl::Buffer nf = device.make_buffer(cap * sizeof(cl_uint), "flags");
+    cl::Buffer nc = device.make_buffer(cap * sizeof(cl_float), "wall clearance");
     if (n > 0) {
       auto& q = device.queue();
       check_cl(q.enqueueCopyBuffer(X[cur], nx[cur], 0, 0, n * sizeof(cl_float4)), "clEnqueueCopyBuffer", "positions");
       check_cl(q.enqueueCopyBuffer(V[cur], nv[cur], 0, 0, n * sizeof(cl_float4)), "clEnqueueCopyBuffer", "velocities");
       check_cl(q.enqueueCopyBuffer(flags, nf, 0, 0, n * sizeof(cl_uint)), "clEnqueueCopyBuffer", "flags");
+      check_cl(q.enqueueCopyBuffer(clearance, nc, 0, 0, n * sizeof(cl_float)), "clEnqueueCopyBuffer", "clearance");
     }
     for (int h = 0; h < 2; ++h) {
       X[h] = nx[h];
       V[h] = nv[h];
     }
     flags = nf;
+    clearance = nc;
     capacity = cap;
-    partial_groups = groups_for(cap);
-    for (auto& p : partials) p = device.make_buffer(partial_groups * kRecord * sizeof(float), "step partials");
+    for (auto& r : records) r = device.make_buffer(cap * sizeof(cl_float4), "step records");
+    lists = device.make_buffer(cap * constants.list_capacity * sizeof(cl_uint), "neighbour lists");
+    list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
+    // Counts past the last particle stay 0: a linked birth counts up from there.
+    check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "neighbour list counts");
+    list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
+    lists_valid = false;
+    for (auto& p : partials) p = device.make_buffer((cap / 64 + 1) * kRecord * sizeof(float), "step partials");
   }
 
   // The neighbour grid over `box`: cells of edge exactly cell_size (the
@@ -170,69 +199,92 @@ struct Engine::Impl {
       dims[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
       total *= dims[a];
     }
-    if (total * constants.cell_capacity > 1.5e9)
+    if (total * constants.cell_capacity * 5 > 1.5e9)
       throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
                   " cells; use a larger radius or a smaller domain");
     cell_origin = f4(box.lo.x, box.lo.y, box.lo.z, 0);
     cell_inv = f4(1 / cs, 1 / cs, 1 / cs, 0);
     cell_dims = i4(dims[0], dims[1], dims[2], 0);
     cell_total = static_cast<size_t>(total);
-    for (int h = 0; h < 2; ++h) {
-      counts[h] = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
-      slots[h] = device.make_buffer(cell_total * constants.cell_capacity * sizeof(cl_uint), "cell slots");
-      check_cl(device.queue().enqueueFillBuffer(counts[h], cl_uint(0), 0, cell_total * sizeof(cl_uint)),
-               "clEnqueueFillBuffer", "cell counts");
-      stamp[h] = 0;
-    }
+    counts = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
+    const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
+    slots = device.make_buffer(slot_bytes, "cell slots");
+    // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
+    check_cl(device.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
+             "cell slots");
+    check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "cell counts");
     last_stamp = 0;
     have_domain = true;
+    lists_valid = false;
   }
 
-  uint32_t new_stamp() { return ++last_stamp; }
+  // A stamp no count word holds yet; on wrap the counts are cleared.
+  uint32_t new_stamp() {
+    if (last_stamp + 1 >= kStampLimit) {
+      check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
+               "clEnqueueFillBuffer", "cell counts");
+      last_stamp = 0;
+    }
+    return ++last_stamp;
+  }
 
-  // Lists X[cur] in cells[cur] under a fresh stamp, when not already done.
-  void ensure_cells() {
+  void require_domain() const {
     if (!have_domain)
       throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
-    if (last_stamp + 4 >= kStampLimit) {  // wrap: clear both count buffers and start again
-      for (auto& c : counts)
-        check_cl(device.queue().enqueueFillBuffer(c, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
-                 "clEnqueueFillBuffer", "cell counts");
-      last_stamp = 0;
-      stamp[0] = stamp[1] = 0;
-    }
-    if (stamp[cur] != 0) return;
-    stamp[cur] = new_stamp();
-    k_insert.set_args(X[cur], counts[cur], slots[cur], cl_uint(stamp[cur]), cell_origin, cell_inv, cell_dims,
-                      cl_uint(0), cl_uint(n));
+  }
+
+  // Lists X[cur] in the cells under `stamp` when `force` or when the list
+  // rebuild request of the last step is raised (decided on the device).
+  void insert_cells(uint32_t stamp, bool force) {
+    k_insert.set_args(X[cur], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims, cl_uint(n),
+                      rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
     run(k_insert, n);
   }
 
-  // Reduces the last step's partials into its history slot, if not yet done.
+  // Finishes the reductions of the steps in flight (one tiny launch).
   void reduce_pending() {
-    if (pending_groups == 0) return;
-    const size_t wg = k_finalize.work_group();
-    k_finalize.set_args(partials[1 - partial_half], cl_uint(pending_groups), history,
-                        cl_uint((steps - 1) % params.history_capacity), local_bytes(wg * sizeof(cl_float4)),
-                        local_bytes(wg * sizeof(cl_uint4)));
-    run(k_finalize, wg);
-    pending_groups = 0;
+    if (!last_pending && before_groups == 0) return;
+    const size_t h = params.history_capacity;
+    const int last = static_cast<int>((steps + 1) % 2);  // (steps - 1) % 2
+    k_finalize.set_args(records[last], cl_uint(last_n), cl_uint(last_pending ? 1 : 0), history,
+                        cl_uint((steps + h - 1) % h), partials[last], cl_uint(before_groups),
+                        cl_uint((steps + h - 2) % h));
+    run(k_finalize, 1);
+    last_pending = false;
+    before_groups = 0;
   }
 
+  cl_int4 sort_rows() const {
+    int r[4] = {-1, -1, -1, -1};
+    for (size_t k = 0; k < newcomers.size() && k < 4; ++k) r[k] = newcomers[k];
+    return i4(r[0], r[1], r[2], r[3]);
+  }
+
+  // One step: the cells (only when lists will be rebuilt), then the update.
   void step() {
+    require_domain();
     if (steps - history_read >= params.history_capacity) drain_history();
     const int nxt = 1 - cur;
-    const uint32_t stamp_out = new_stamp();
-    const size_t wg = k_step.work_group();
-    const cl_uint prev_slot = steps > 0 ? cl_uint((steps - 1) % params.history_capacity) : 0;
-    k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts[cur], slots[cur], cl_uint(stamp[cur]), counts[nxt],
-                    slots[nxt], cl_uint(stamp_out), cell_origin, cell_inv, cell_dims, sdf, sdf_origin, sdf_dims, flags,
-                    cl_uint(n), partials[partial_half], partials[1 - partial_half], cl_uint(pending_groups), history,
-                    prev_slot, local_bytes(wg * sizeof(cl_float4)), local_bytes(wg * sizeof(cl_uint4)));
-    run(k_step, n);
-    pending_groups = groups_for(n);
-    partial_half = 1 - partial_half;
-    stamp[nxt] = stamp_out;
+    const uint32_t stamp = new_stamp();
+    const bool force = !lists_valid;
+    insert_cells(stamp, force);
+    const size_t h = params.history_capacity;
+    const int now = static_cast<int>(steps % 2), last = 1 - now;
+    const size_t chunk = chunk_for(last_n);
+    const size_t chunk_groups = last_pending ? (last_n + chunk - 1) / chunk : 0;
+    k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims,
+                    sdf, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), records[now], records[last],
+                    cl_uint(last_n), cl_uint(chunk), cl_uint(chunk_groups), partials[now], partials[last],
+                    cl_uint(before_groups), history, cl_uint((steps + h - 2) % h), lists, list_counts, list_origins,
+                    rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3), cl_uint((steps + 1) % 3),
+                    cl_uint(force ? 1 : 0), sort_rows());
+    run(k_step, std::max<size_t>({n, chunk_groups, 1}));
+    newcomers.clear();
+    before_groups = chunk_groups;
+    lists_valid = true;
+    last_pending = true;
+    last_n = n;
     cur = nxt;
     ++steps;
   }
@@ -242,9 +294,18 @@ struct Engine::Impl {
     reduce_pending();
     const size_t count = steps - history_read, cap = params.history_capacity;
     if (count == 0) return;
-    std::vector<float> raw(cap * kRecord);
-    check_cl(device.queue().enqueueReadBuffer(history, CL_TRUE, 0, raw.size() * sizeof(float), raw.data()),
+    // Read only the unread slots: one piece, or two when they wrap around.
+    std::vector<float>& raw = history_host;
+    raw.resize(cap * kRecord);
+    const size_t first = history_read % cap, wrapped = std::min(count, cap - first);
+    check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, first * kRecord * sizeof(float),
+                                              wrapped * kRecord * sizeof(float), &raw[first * kRecord]),
              "clEnqueueReadBuffer", "history");
+    if (count > wrapped)
+      check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, 0, (count - wrapped) * kRecord * sizeof(float),
+                                                raw.data()),
+               "clEnqueueReadBuffer", "history");
+    device.finish();
     for (uint64_t s = history_read; s < steps; ++s) {
       const float* r = &raw[(s % cap) * kRecord];
       StepRecord rec;
@@ -305,14 +366,18 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
+  if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
+    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
+                              m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
+                              vs[0]);
+    m.run(m.k_birth_linked, first + 1);
+    m.newcomers.push_back(static_cast<int>(first));
+    m.n += 1;
+    return first;
+  }
+  m.lists_valid = false;  // the next step lists the newcomers
   if (particles.size() == 1) {
-    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]),
-                       m.cell_origin, m.cell_inv, m.cell_dims, cl_uint(first), xs[0], vs[0]);
-    if (!m.have_domain) m.k_birth.set_arg(5, cl_uint(0));  // no cells yet: nothing to list it in
-    if (!m.have_domain) {
-      m.k_birth.set_arg(3, m.flags);  // placeholders for the absent cell buffers (unused with stamp 0)
-      m.k_birth.set_arg(4, m.flags);
-    }
+    m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(first), xs[0], vs[0]);
     m.run(m.k_birth, 1);
     m.n += 1;
     return first;
@@ -325,12 +390,9 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
                                 vs.data()), "clEnqueueWriteBuffer", "velocities");
   check_cl(q.enqueueWriteBuffer(m.flags, CL_TRUE, first * sizeof(cl_uint), zeros.size() * sizeof(cl_uint),
                                 zeros.data()), "clEnqueueWriteBuffer", "flags");
+  check_cl(q.enqueueWriteBuffer(m.clearance, CL_TRUE, first * sizeof(cl_float), zeros.size() * sizeof(cl_float),
+                                zeros.data()), "clEnqueueWriteBuffer", "clearance");  // 0.0f has the bits of 0u
   m.n += particles.size();
-  if (m.have_domain && m.stamp[m.cur] != 0) {
-    m.k_insert.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
-                        m.cell_inv, m.cell_dims, cl_uint(first), cl_uint(particles.size()));
-    m.run(m.k_insert, particles.size());
-  }
   return first;
 }
 
@@ -343,21 +405,29 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       throw Error("engine: cannot remove particle " + std::to_string(idx) + " of " + std::to_string(m.n));
   for (size_t idx : indices) {
     const size_t last = m.n - 1;
-    if (idx != last) {
-      m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, cl_uint(last), cl_uint(idx));
+    if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
+      m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
+                                 m.list_origins, cl_uint(m.n), cl_uint(idx));
+      m.run(m.k_remove_linked, m.n);
+      // A newcomer's unsorted row moves with it from `last` to `idx`.
+      for (int& k : m.newcomers)
+        if (k == static_cast<int>(idx)) k = -1;
+      for (int& k : m.newcomers)
+        if (k == static_cast<int>(last)) k = static_cast<int>(idx);
+    } else if (idx != last) {
+      m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
     }
+    // Counts past the last particle stay 0 (a linked birth counts up from there).
+    check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "neighbour list count");
     m.n -= 1;
   }
-  if (!indices.empty()) m.stamp[m.cur] = 0;  // the moved particles sit in stale cells: rebuild before the next step
 }
 
 void Engine::run_steps(size_t k) {
   Impl& m = *impl_;
-  for (size_t s = 0; s < k; ++s) {
-    m.ensure_cells();
-    m.step();
-  }
+  for (size_t s = 0; s < k; ++s) m.step();
 }
 
 std::vector<StepRecord> Engine::read_history() {
@@ -406,11 +476,13 @@ void Engine::finish() { impl_->device.finish(); }
 
 std::vector<std::vector<uint32_t>> Engine::neighbour_lists() {
   Impl& m = *impl_;
-  m.ensure_cells();
+  m.require_domain();
+  const uint32_t stamp = m.new_stamp();
+  m.insert_cells(stamp, true);
   const cl_uint max_out = 256;
   cl::Buffer counts = m.device.make_buffer(std::max<size_t>(m.n, 1) * sizeof(cl_uint), "neighbour counts");
   cl::Buffer lists = m.device.make_buffer(std::max<size_t>(m.n, 1) * max_out * sizeof(cl_uint), "neighbour lists");
-  m.k_neighbours.set_args(m.X[m.cur], m.counts[m.cur], m.slots[m.cur], cl_uint(m.stamp[m.cur]), m.cell_origin,
+  m.k_neighbours.set_args(m.X[m.cur], m.counts, m.slots, cl_uint(stamp), m.cell_origin,
                           m.cell_inv, m.cell_dims, cl_uint(m.n), counts, lists, max_out);
   m.run(m.k_neighbours, m.n);
   std::vector<cl_uint> c(m.n), l(m.n * max_out);

@@ -36,6 +36,7 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.dt >= 0, "dt must be >= 0 (0: derived from the potential)");
   require(p.max_step_fraction > 0 && p.max_step_fraction <= 0.5, "max_step_fraction must be in (0, 0.5]");
   require(p.force_cap >= 0, "force_cap must be >= 0 (0: derived)");
+  require(p.skin_sigma > 0 && p.skin_sigma <= 2, "skin_sigma must be in (0, 2]");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
   require(p.work_group >= 1, "work_group must be >= 1");
 
@@ -49,13 +50,28 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.max_speed = p.max_step_fraction * c.sigma / c.dt;
   c.force_cap = p.force_cap > 0 ? p.force_cap : c.max_speed / c.dt;
   c.damping_factor = std::exp(-p.damping * c.dt);
+  c.contact_distance = rest;
+  // Stiffness of the potential at its minimum, and the damping ratio that
+  // gives the restitution for a linear spring of that stiffness.
+  const double x = c.sigma / rest;
+  const double k = 4 * p.eps * (a * (a + 1) * std::pow(x, a) - b * (b + 1) * std::pow(x, b)) / (rest * rest);
+  const double log_e = std::log(std::max(p.restitution, 1e-6));
+  const double zeta = p.restitution >= 1 ? 0 : -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
+  c.dashpot = 2 * zeta * std::sqrt(k);
   c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
-  c.cell_size = std::max(c.cutoff, 2 * c.max_radius);
+  c.skin = p.skin_sigma * c.sigma;
+  c.list_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.skin;
+  c.cell_size = c.list_reach;
   // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
   const double s_min = 0.8 * std::min(2 * p.radius, rest);
   const double dense = std::pow(c.cell_size, 3) * 0.74 / (M_PI / 6 * std::pow(s_min, 3));
-  c.cell_capacity = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 252.0));
-  c.cell_capacity = (c.cell_capacity + 3) / 4 * 4;
+  c.cell_capacity = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 248.0));
+  c.cell_capacity = (c.cell_capacity + 7) / 8 * 8;  // whole float8 loads in the list build
+  // Lists: spheres of diameter 0.9 * min(2 r, rest) at packing 0.74 within the reach.
+  const double s_list = 0.9 * std::min(2 * p.radius, rest);
+  const double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
+  c.list_capacity = static_cast<unsigned>(std::ceil(in_reach) + 8);
+  c.list_capacity = (c.list_capacity + 7) / 8 * 8;
   c.a_half = even_half(a);
   c.b_half = even_half(b);
   return c;

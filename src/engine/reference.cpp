@@ -4,6 +4,8 @@
 #include "pfill/engine/reference.hpp"
 
 #include <algorithm>
+#include <functional>
+#include <string>
 #include <cmath>
 #include <math.h>
 
@@ -56,6 +58,18 @@ void ReferenceEngine::add_particles(const std::vector<Particle>& particles) {
   }
 }
 
+void ReferenceEngine::remove_particles(std::vector<size_t> indices) {
+  std::sort(indices.begin(), indices.end(), std::greater<size_t>());
+  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  for (size_t idx : indices) {
+    if (idx >= particles_.size()) throw Error("reference: cannot remove particle " + std::to_string(idx));
+    particles_[idx] = particles_.back();
+    flags_[idx] = flags_.back();
+    particles_.pop_back();
+    flags_.pop_back();
+  }
+}
+
 StepRecord ReferenceEngine::step() {
   const EngineConstants& c = constants_;
   const double sigma2 = c.sigma * c.sigma, rc2 = c.cutoff * c.cutoff, dmin = 1e-3f * c.sigma;
@@ -66,7 +80,7 @@ StepRecord ReferenceEngine::step() {
   for (size_t i = 0; i < particles_.size(); ++i) {
     const Particle& pi = particles_[i];
     const double inv_mi = 1 / pi.mass;
-    Vec3 force, impulse;
+    Vec3 force;
     for (size_t j = 0; j < particles_.size(); ++j) {
       if (j == i) continue;
       const Particle& pj = particles_[j];
@@ -80,14 +94,13 @@ StepRecord ReferenceEngine::step() {
       }
       force += physics::pf_lj_force_scale(d2, sigma2, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
                                           c.b_half, rc2, c.force_cap) * d;
-      if (d2 < rs * rs) {
+      if (d2 < std::max(rs * rs, c.contact_distance * c.contact_distance)) {
         const Vec3 n = d / std::sqrt(d2);
-        impulse += physics::pf_contact_impulse(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass,
-                                               params_.restitution) * n;
-        if (j > i) ++rec.colliding_pairs;
+        force += physics::pf_contact_damping(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass, c.dashpot) * n;
+        if (j > i && d2 < rs * rs) ++rec.colliding_pairs;
       }
     }
-    Vec3 u = (pi.velocity + (c.dt * inv_mi) * force + inv_mi * impulse) * c.damping_factor;
+    Vec3 u = (pi.velocity + (c.dt * inv_mi) * force) * c.damping_factor;
     const double speed = length(u);
     if (speed > c.max_speed) u *= c.max_speed / speed;
     Vec3 x = pi.position + c.dt * u;

@@ -10,10 +10,16 @@
 /// least its radius inside and reflects outward motion (wall restitution),
 /// leapfrog integration with optional damping and a speed cap.
 ///
-/// Cost model: run_steps(k) enqueues k single-launch steps and returns
-/// without waiting; per-step scalars stay on the device until
-/// read_history(). Births of one particle and removals are one tiny launch
-/// each; reads (history, particles, flags) block.
+/// Neighbours: Verlet lists with a skin (EngineParams::skin_sigma), rebuilt
+/// on the device from a uniform cell grid whenever a particle has moved half
+/// the skin since the last build, and after births, removals and growth.
+///
+/// Cost model: run_steps(k) enqueues k steps of two launches each (the
+/// first, filling the cells, returns at once unless the lists are due) and
+/// returns without waiting; per-step scalars stay on the device until
+/// read_history() (no blocking read per step). Births of one particle and
+/// removals are one tiny launch each; reads (history, particles, flags)
+/// block. No allocation per step; buffers grow by doubling on births.
 ///
 /// @note Not thread-safe; two engines may live side by side.
 #pragma once

@@ -20,12 +20,13 @@ struct EngineParams {
   double exponent_a = 12;          ///< repulsive exponent a (> b)
   double exponent_b = 6;           ///< attractive exponent b (> 0)
   double cutoff_sigma = 0;         ///< cutoff in units of sigma (e.g. 2.5); 0: purely repulsive (cutoff at the minimum)
-  double restitution = 0.5;        ///< particle-particle restitution in [0, 1]
+  double restitution = 0.5;        ///< particle-particle restitution in [0, 1] (of the linearised contact; 1: none lost)
   double wall_restitution = 0.5;   ///< particle-wall restitution in [0, 1]
   double damping = 0;              ///< velocity damping rate (1/time): u *= exp(-damping dt) a step
   double dt = 0;                   ///< time step; 0: 0.005 tau, tau = sigma sqrt(m / eps)
   double max_step_fraction = 0.05; ///< no particle moves more than this many sigma in one step
   double force_cap = 0;            ///< largest pair force; 0: the force that gives a unit mass the top speed in one step
+  double skin_sigma = 0.3;         ///< neighbour-list skin in units of sigma (lists rebuilt after moves of half of it)
   Box3 domain;                     ///< cell-grid box when no field is set (particles outside still work, slower)
   size_t history_capacity = 4096;  ///< per-step records kept on the device between reads
   size_t work_group = 128;         ///< preferred work-group size (a power of two; the device may lower it)
@@ -40,9 +41,14 @@ struct EngineConstants {
   double max_speed = 0;      ///< max_step_fraction * sigma / dt: speeds are clamped to it
   double force_cap = 0;      ///< largest pair force
   double damping_factor = 1; ///< exp(-damping dt)
-  double cell_size = 0;      ///< smallest cell edge: max(cutoff, 2 max_radius)
+  double contact_distance = 0; ///< the rest distance: contacts damp while d < max(r_i + r_j, this)
+  double dashpot = 0;        ///< 2 zeta sqrt(k): contact damping (physics.cl pf_contact_damping)
+  double cell_size = 0;      ///< cell edge: the list reach
   double max_radius = 0;
   unsigned cell_capacity = 0;  ///< particles a cell can list (more are dropped and counted as overflow)
+  double skin = 0;             ///< neighbour-list skin
+  double list_reach = 0;       ///< max(cutoff, 2 max_radius, rest distance) + skin
+  unsigned list_capacity = 0;  ///< neighbours a list can hold (more are dropped and counted as overflow)
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
 

@@ -19,6 +19,8 @@ class ReferenceEngine {
   void set_field(const ScalarGrid& field);
   /// Same conventions as Engine::add_particles (mass 0: from the radius).
   void add_particles(const std::vector<Particle>& particles);
+  /// Same convention as Engine::remove_particles (swap with last, largest index first).
+  void remove_particles(std::vector<size_t> indices);
   /// One step; returns its record.
   StepRecord step();
 

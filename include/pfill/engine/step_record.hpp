@@ -13,7 +13,7 @@ struct StepRecord {
   double max_displacement = 0;     ///< largest distance a centre moved in the step (wall push included)
   uint32_t colliding_pairs = 0;    ///< pairs whose spheres overlap (d < r_i + r_j) at the step's start
   uint32_t flagged = 0;            ///< particles whose centre was outside the field (or its box) this step
-  uint32_t cell_overflow = 0;      ///< particles that met a cell over capacity (should be 0; see Engine)
+  uint32_t cell_overflow = 0;      ///< particles that met a full cell or neighbour list (neighbours lost: should be 0)
   uint32_t particles = 0;          ///< particle count during the step
 };
 
