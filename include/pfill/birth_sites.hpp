@@ -19,9 +19,10 @@ struct BirthSite {
 /// from all sites chosen so far among the points at least `depth_share` as
 /// deep as the deepest (farthest-point sampling of the deep core: sites
 /// spread over the object's main rooms, e.g. round a torus, while staying
-/// deep). A site is never within twice the deepest depth of another (fewer
-/// sites then) nor shallower than `min_depth`; the result is empty when the
-/// field has no point that deep.
+/// deep). The inscribed balls of two sites (radius: their depth) never
+/// overlap, so each site feeds a room of its own (fewer sites when there is
+/// no such point); no site is shallower than `min_depth`, and the result is
+/// empty when the field has no point that deep.
 std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, double min_depth,
                                           double depth_share = 0.75);
 

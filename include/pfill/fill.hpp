@@ -50,6 +50,7 @@ struct FillOptions {
 
   // Births.
   int sites = 2;                ///< birth sites: the deepest point, then far deep points
+  double site_depth_share = 0.75;  ///< sites after the first are at least this share of the deepest depth
   int birth_every = 3;          ///< steps between birth attempts at each site
   std::optional<Vec3> birth_point;  ///< overrides the first site
   double birth_speed_min = 0.5; ///< newborn speed range, as fractions of the top speed
@@ -82,6 +83,7 @@ struct FillOptions {
   // Machinery.
   double field_spacing = 0.33;  ///< signed distance grid spacing, in radii
   size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
+  double skin = 0.3;            ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it)
   int sync_every = 8;           ///< steps between reads of the step history
   std::string device;           ///< OpenCL device spec (index or name); "" = default
   std::function<void(const FillProgress&)> progress;

@@ -219,6 +219,9 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
       ->capture_default_str();
   cmd->add_option("--sites", o.sites, "Birth sites: the deepest point, then far deep points")->capture_default_str();
+  cmd->add_option("--site-depth", o.site_depth_share,
+                  "Sites after the first lie at least this share of the deepest point's depth inside")
+      ->capture_default_str();
   cmd->add_option("--birth-every", o.birth_every, "Steps between birth attempts at each site")
       ->capture_default_str();
   cmd->add_option("--birth-clearance", o.birth_clearance,
@@ -237,6 +240,9 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--colour", a->colour,
                   "Particle colours: surface (the mesh's colours/texture), depth, none or #RRGGBB "
                   "(default: surface when the mesh has colours, else none)");
+  cmd->add_option("--skin", o.skin, "Neighbour-list skin in sigma")->capture_default_str();
+  cmd->add_option("--sync-every", o.sync_every, "Steps between reads of the step history and positions")
+      ->capture_default_str();
   cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
   cmd->add_option("--report", a->report, "Write the metrics and the run's figures as JSON to this file");
   cmd->add_option("--preview", a->preview, "Render the result, cut open, to this PNG");

@@ -29,12 +29,18 @@ std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, doub
   std::vector<double> nearest(core.size());
   for (size_t k = 0; k < core.size(); ++k) nearest[k] = length(point(core[k]) - sites[0].position);
   while (static_cast<int>(sites.size()) < count) {
+    // Farthest core point whose inscribed ball does not meet another site's.
     size_t best = core.size();
-    for (size_t k = 0; k < core.size(); ++k)
-      if (best == core.size() || nearest[k] > nearest[best] ||
-          (nearest[k] == nearest[best] && sdf.values[core[k]] < sdf.values[core[best]]))
-        best = k;
-    if (best == core.size() || nearest[best] < 2 * max_depth) break;  // no room for another site
+    for (size_t k = 0; k < core.size(); ++k) {
+      if (best != core.size() && nearest[k] <= nearest[best]) continue;
+      const Vec3 p = point(core[k]);
+      const double depth = -static_cast<double>(sdf.values[core[k]]);
+      const bool apart = std::all_of(sites.begin(), sites.end(), [&](const BirthSite& s) {
+        return length(s.position - p) >= s.depth + depth;
+      });
+      if (apart) best = k;
+    }
+    if (best == core.size()) break;  // no room for another site
     const Vec3 p = point(core[best]);
     sites.push_back({p, -static_cast<double>(sdf.values[core[best]])});
     for (size_t k = 0; k < core.size(); ++k) nearest[k] = std::min(nearest[k], length(point(core[k]) - p));

@@ -117,7 +117,7 @@ class FillRun {
     result_.field_bytes = stats.bytes;
     result_.field_spacing = so.spacing;
 
-    sites_ = choose_birth_sites(field_, std::max(1, o_.sites), radius_);
+    sites_ = choose_birth_sites(field_, std::max(1, o_.sites), radius_, o_.site_depth_share);
     if (sites_.empty()) {
       double deepest = 0;
       for (float v : field_.values) deepest = std::max(deepest, -static_cast<double>(v));
@@ -156,6 +156,7 @@ class FillRun {
     params_.damping = o_.damping;
     params_.dt = o_.time_step * derive_constants(params_).tau;
     params_.max_step_fraction = o_.max_step_fraction;
+    params_.skin_sigma = o_.skin;
     engine_ = std::make_unique<Engine>(*device_, params_);
     engine_->set_field(field_);
     top_speed_ = engine_->constants().max_speed;
@@ -293,7 +294,6 @@ class FillRun {
       particles_ = to_particle_set(relaxer.read_particles());
       const std::vector<Overlap> overlaps = find_overlaps(particles_, o_.max_overlap);
       report_particles(particles_.size(), 0, static_cast<uint32_t>(overlaps.size()));
-      { double mx = 0; for (const Overlap& o : overlaps) mx = std::max(mx, o.fraction); if (getenv("PFILL_DEBUG")) fprintf(stderr, "relief round %d: n %zu over %zu max %.3f\n", round, particles_.size(), overlaps.size(), mx); }
       if (overlaps.empty() || round >= o_.max_relief_rounds) {
         result_.relief_rounds = static_cast<size_t>(round) + 1;
         break;
@@ -355,6 +355,7 @@ class FillRun {
     const std::vector<Particle> ps = engine_->read_particles();
     snapshot_.clear();
     for (const Particle& p : ps) snapshot_.push_back(p.position);
+    newborns_.clear();
     if (o_.on_frame && o_.frame_every && engine_->steps_done() / o_.frame_every != last_frame_) {
       last_frame_ = engine_->steps_done() / o_.frame_every;
       o_.on_frame(engine_->steps_done(), to_particle_set(ps));
@@ -369,16 +370,27 @@ class FillRun {
     const double clearance = o_.birth_clearance * 2 * radius_;
     for (const BirthSite& site : sites_) {
       if (phase_ == "pass 2" && engine_->size() >= result_.max_parts) break;
-      if (!site_has_room(snapshot_, site.position, clearance)) continue;
+      if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, clearance)) continue;
       Particle p;
       p.position = site.position;
       p.radius = radius_;
       p.velocity = random_direction() * (top_speed_ * (o_.birth_speed_min + (o_.birth_speed_max - o_.birth_speed_min) * speed_(rng_)));
       engine_->add_particle(p);
-      snapshot_.push_back(p.position);  // the site stays taken until the next snapshot
+      newborns_.push_back({p.position, p.velocity, engine_->steps_done()});
       any = true;
     }
     return any;
+  }
+
+  /// Newborns since the last snapshot fly straight at their birth speed
+  /// (they are the fastest particles there): predicted, they need no read-back.
+  bool newborns_clear(const Vec3& site, double clearance) const {
+    const double dt = engine_->constants().dt;
+    for (const Newborn& b : newborns_) {
+      const Vec3 now = b.position + b.velocity * (dt * static_cast<double>(engine_->steps_done() - b.step));
+      if (length(now - site) < clearance) return false;
+    }
+    return true;
   }
 
   Vec3 random_direction() {
@@ -446,6 +458,11 @@ class FillRun {
   std::unique_ptr<Engine> engine_;
   std::vector<StepRecord> history_;
   std::vector<Vec3> snapshot_;
+  struct Newborn {
+    Vec3 position, velocity;
+    uint64_t step;
+  };
+  std::vector<Newborn> newborns_;  ///< born since the last snapshot
   ParticleSet particles_;
   uint64_t relax_steps_ = 0;
   uint64_t fill_steps_ = 0;  ///< engine steps of passes 1-3, kept once the engine is gone
