@@ -10,7 +10,8 @@ const path = require('path');
 const { execSync } = require('child_process');
 
 function loadValidator() {
-  const candidates = ['gltf-validator'];
+  // scripts/install-deps.sh installs it into the repository's .tools/.
+  const candidates = ['gltf-validator', path.join(__dirname, '..', '.tools', 'node_modules', 'gltf-validator')];
   if (process.env.PFILL_GLTF_VALIDATOR_DIR)
     candidates.push(path.join(process.env.PFILL_GLTF_VALIDATOR_DIR, 'node_modules', 'gltf-validator'));
   try {

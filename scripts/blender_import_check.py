@@ -1,0 +1,31 @@
+# Imports pfill outputs into Blender (3.4, run headless) and checks that
+# each particle became one point: blender -b -P scripts/blender_import_check.py -- COUNT FILE...
+# Exit status 0 when every file imported with COUNT points, 1 otherwise.
+import sys
+
+import bpy
+
+args = sys.argv[sys.argv.index("--") + 1:]
+expected = int(args[0])
+ok = True
+for path in args[1:]:
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    if path.endswith(".ply"):
+        bpy.ops.import_mesh.ply(filepath=path)
+    elif path.endswith(".glb") or path.endswith(".gltf"):
+        # Debian 12's Blender 3.4 glTF importer uses numpy.bool, which Debian's
+        # numpy 1.24 no longer has, on its default "NORMALS" shading path;
+        # FLAT shading avoids it (points have no faces to shade anyway).
+        bpy.ops.import_scene.gltf(filepath=path, import_shading="FLAT")
+    else:
+        print(f"{path}: not a PLY or glTF file")
+        ok = False
+        continue
+    meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
+    points = sum(len(o.data.vertices) for o in meshes if len(o.data.polygons) == 0)
+    colours = [a.name for o in meshes for a in getattr(o.data, "color_attributes", [])]
+    print(f"{path}: {len(meshes)} mesh objects, {points} points, colour attributes {colours}")
+    if points != expected:
+        print(f"{path}: expected {expected} points")
+        ok = False
+sys.exit(0 if ok else 1)
