@@ -4,6 +4,7 @@
 
 #include "pfill/atomic_file.hpp"
 #include "pfill/particle_io.hpp"
+#include "io/chunked_records.hpp"
 
 namespace pfill {
 namespace {
@@ -31,37 +32,30 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
-    static constexpr size_t kChunk = 1 << 13;
-    std::string chunk;
-    for (size_t begin = 0; begin < particles.size(); begin += kChunk) {
-      chunk.clear();
-      const size_t end = std::min(particles.size(), begin + kChunk);
-      for (size_t i = begin; i < end; ++i) {
-        const Vec3& p = particles.positions[i];
-        append_number(chunk, p.x);
-        chunk += ',';
-        append_number(chunk, p.y);
-        chunk += ',';
-        append_number(chunk, p.z);
-        chunk += ',';
-        append_number(chunk, particles.radii[i]);
-        if (colours) {
-          for (uint8_t c : particles.colours[i]) {
-            chunk += ',';
-            chunk += std::to_string(static_cast<int>(c));
-          }
+    write_records(file, particles.size(), 1 << 13, [&](std::string& chunk, size_t i) {
+      const Vec3& p = particles.positions[i];
+      append_number(chunk, p.x);
+      chunk += ',';
+      append_number(chunk, p.y);
+      chunk += ',';
+      append_number(chunk, p.z);
+      chunk += ',';
+      append_number(chunk, particles.radii[i]);
+      if (colours) {
+        for (uint8_t c : particles.colours[i]) {
+          chunk += ',';
+          chunk += std::to_string(static_cast<int>(c));
         }
-        if (velocities) {
-          const Vec3& v = particles.velocities[i];
-          for (int k = 0; k < 3; ++k) {
-            chunk += ',';
-            append_number(chunk, v[k]);
-          }
-        }
-        chunk += '\n';
       }
-      file.write(chunk);
-    }
+      if (velocities) {
+        const Vec3& v = particles.velocities[i];
+        for (int k = 0; k < 3; ++k) {
+          chunk += ',';
+          append_number(chunk, v[k]);
+        }
+      }
+      chunk += '\n';
+    });
   });
 }
 

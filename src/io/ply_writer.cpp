@@ -5,6 +5,7 @@
 #include "io/byte_order.hpp"
 #include "pfill/atomic_file.hpp"
 #include "pfill/particle_io.hpp"
+#include "io/chunked_records.hpp"
 
 namespace pfill {
 
@@ -24,28 +25,20 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
-    // Records go out in chunks, so memory stays small for millions of particles.
-    static constexpr size_t kChunk = 1 << 14;
-    std::string chunk;
-    for (size_t begin = 0; begin < particles.size(); begin += kChunk) {
-      chunk.clear();
-      const size_t end = std::min(particles.size(), begin + kChunk);
-      for (size_t i = begin; i < end; ++i) {
-        const Vec3& p = particles.positions[i];
-        byte_order::append_f32_le(chunk, static_cast<float>(p.x));
-        byte_order::append_f32_le(chunk, static_cast<float>(p.y));
-        byte_order::append_f32_le(chunk, static_cast<float>(p.z));
-        byte_order::append_f32_le(chunk, static_cast<float>(particles.radii[i]));
-        if (colours) chunk.append(reinterpret_cast<const char*>(particles.colours[i].data()), 3);
-        if (velocities) {
-          const Vec3& v = particles.velocities[i];
-          byte_order::append_f32_le(chunk, static_cast<float>(v.x));
-          byte_order::append_f32_le(chunk, static_cast<float>(v.y));
-          byte_order::append_f32_le(chunk, static_cast<float>(v.z));
-        }
+    write_records(file, particles.size(), 1 << 14, [&](std::string& chunk, size_t i) {
+      const Vec3& p = particles.positions[i];
+      byte_order::append_f32_le(chunk, static_cast<float>(p.x));
+      byte_order::append_f32_le(chunk, static_cast<float>(p.y));
+      byte_order::append_f32_le(chunk, static_cast<float>(p.z));
+      byte_order::append_f32_le(chunk, static_cast<float>(particles.radii[i]));
+      if (colours) chunk.append(reinterpret_cast<const char*>(particles.colours[i].data()), 3);
+      if (velocities) {
+        const Vec3& v = particles.velocities[i];
+        byte_order::append_f32_le(chunk, static_cast<float>(v.x));
+        byte_order::append_f32_le(chunk, static_cast<float>(v.y));
+        byte_order::append_f32_le(chunk, static_cast<float>(v.z));
       }
-      file.write(chunk);
-    }
+    });
   });
 }
 
