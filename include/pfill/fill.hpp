@@ -53,8 +53,8 @@ struct FillOptions {
   double site_depth_share = 0.75;  ///< sites after the first are at least this share of the deepest depth
   int birth_every = 3;          ///< steps between birth attempts at each site
   std::optional<Vec3> birth_point;  ///< overrides the first site
-  double birth_speed_min = 0.5; ///< newborn speed range, as fractions of the top speed
-  double birth_speed_max = 1.0;
+  double birth_speed_min = 0.3; ///< newborn speed range, as fractions of the top speed
+  double birth_speed_max = 0.6;
   double birth_clearance = 0.5; ///< a site has room when no centre is within this times 2r (measured on spot and a torus: 0.5 packs densest)
   uint64_t seed = 1;
 
