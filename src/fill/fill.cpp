@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <deque>
 #include <cmath>
 #include <random>
 
@@ -294,20 +295,39 @@ class FillRun {
       particles_ = to_particle_set(relaxer.read_particles());
       const std::vector<Overlap> overlaps = find_overlaps(particles_, o_.max_overlap);
       report_particles(particles_.size(), 0, static_cast<uint32_t>(overlaps.size()));
-      if (overlaps.empty() || round >= o_.max_relief_rounds) {
+      if (overlaps.empty()) {
         result_.relief_rounds = static_cast<size_t>(round) + 1;
         break;
       }
-      // Each sphere's worst overlap; remove the worst `relief_fraction` of them.
+      // Each sphere's worst overlap.
       std::vector<double> worst(particles_.size(), 0);
       for (const Overlap& o : overlaps) {
         worst[o.i] = std::max(worst[o.i], o.fraction);
         worst[o.j] = std::max(worst[o.j], o.fraction);
       }
+      if (round >= o_.max_relief_rounds) {
+        // Out of rounds: one sphere of every pair still over the bound goes,
+        // so the bound holds whatever the rounds achieved.
+        std::vector<bool> gone(particles_.size(), false);
+        std::vector<size_t> out;
+        for (const Overlap& o : overlaps) {
+          if (gone[o.i] || gone[o.j]) continue;
+          const size_t k = worst[o.i] >= worst[o.j] ? o.i : o.j;
+          gone[k] = true;
+          out.push_back(k);
+        }
+        result_.relief_removed += out.size();
+        relaxer.remove_particles(out);
+        particles_ = to_particle_set(relaxer.read_particles());
+        result_.relief_rounds = static_cast<size_t>(round) + 1;
+        break;
+      }
+      // Remove the worst `relief_fraction` of the overlapping spheres.
       std::vector<size_t> over;
       for (size_t i = 0; i < worst.size(); ++i)
         if (worst[i] > 0) over.push_back(i);
-      std::sort(over.begin(), over.end(), [&](size_t a, size_t b) { return worst[a] > worst[b] || (worst[a] == worst[b] && a < b); });
+      std::sort(over.begin(), over.end(),
+                [&](size_t a, size_t b) { return worst[a] > worst[b] || (worst[a] == worst[b] && a < b); });
       const size_t n = std::max<size_t>(1, static_cast<size_t>(std::ceil(o_.relief_fraction * over.size())));
       over.resize(std::min(n, over.size()));
       result_.relief_removed += over.size();
@@ -431,10 +451,17 @@ class FillRun {
     if (dt > 0 && p.step >= last_step_) p.steps_per_second = (p.step - last_step_) / dt;
     last_report_ = Clock::now();
     last_step_ = p.step;
-    if (phase_ == "pass 1" && n > 10 && p.elapsed > 1) {
-      // Births slow as the object fills; the count so far extrapolates the rest.
-      const double rate = n / std::max(1e-9, p.elapsed - result_.field_seconds);
-      p.remaining = std::max(0.0, (static_cast<double>(result_.expected) - n) / rate) * 1.3;
+    if (phase_ == "pass 1") {
+      // Births slow down as the object fills and steps grow dearer: the
+      // rate over the last half minute extrapolates the rest, and the
+      // passes after pass 1 take about a fifth of its time.
+      rate_samples_.push_back({p.elapsed, n});
+      while (rate_samples_.size() > 2 && p.elapsed - rate_samples_[1].first > 30) rate_samples_.pop_front();
+      const auto& [t0, n0] = rate_samples_.front();
+      if (p.elapsed - t0 > 2 && n > n0) {
+        const double rate = static_cast<double>(n - n0) / (p.elapsed - t0);
+        p.remaining = 1.2 * std::max(0.0, static_cast<double>(result_.expected) - n) / rate;
+      }
     }
     o_.progress(p);
   }
@@ -446,6 +473,7 @@ class FillRun {
   Clock::time_point start_ = Clock::now();
   Clock::time_point last_report_ = Clock::now();
   uint64_t last_step_ = 0;
+  std::deque<std::pair<double, size_t>> rate_samples_;  ///< (elapsed, particles) for the time-left estimate
   uint64_t last_frame_ = 0;
   double volume_ = 0;
   double radius_ = 0;
