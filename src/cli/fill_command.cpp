@@ -54,9 +54,14 @@ class ProgressPrinter {
     const auto now = std::chrono::steady_clock::now();
     const double since = std::chrono::duration<double>(now - last_).count();
     if (p.phase == phase_ && since < (tty_ ? 0.2 : 5.0)) return;
-    if (p.phase != phase_ && !tty_) std::fprintf(stderr, "pfill: %s\n", p.phase.c_str());
+    const bool new_phase = p.phase != phase_;
     phase_ = p.phase;
     last_ = now;
+    if (p.phase == "field") {  // nothing to count yet
+      if (new_phase) std::fprintf(stderr, "pfill: building the signed distance field\n");
+      return;
+    }
+    if (new_phase && !tty_) std::fprintf(stderr, "pfill: %s\n", p.phase.c_str());
     char line[256];
     std::snprintf(line, sizeof line, "%-7s %9s particles (~%s when full)  KE %-9.3g pairs %-6u %7.0f steps/s  %5.0fs%s",
                   p.phase.c_str(), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,

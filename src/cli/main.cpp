@@ -25,9 +25,9 @@ int main(int argc, char** argv) {
   try {
     app.parse(static_cast<int>(args.size()), const_cast<char**>(args.data()));
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    return app.exit(e) == 0 ? 0 : 2;  // --help and --version exit 0
   } catch (const std::exception& e) {
-    std::cerr << "\npfill: error: " << e.what() << "\n";
+    std::cerr << "pfill: error: " << e.what() << "\n";
     return 1;
   }
   return 0;
