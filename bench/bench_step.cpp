@@ -4,10 +4,12 @@
 // (and 1e6 with --big) at packing fraction 0.6 in a box, rc = 2.5 sigma and
 // purely repulsive. Small systems: steps per second at N = 500, 1000, 4000,
 // purely repulsive, with the per-step history read back every 50 steps.
-// Per-kernel times come from a second, profiled run. Text on stdout, JSON
-// with --json FILE.
+// Per-kernel times come from a second, profiled run. The fill regime
+// (run_fill_case; --fill runs only it): growth from 0 to 4,000 by births
+// at fast speeds, as a fill's pass 1 does. Text on stdout, JSON with
+// --json FILE.
 //
-//   bench_step [--big] [--quick] [--only N] [--json FILE]
+//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -202,19 +204,136 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   return j;
 }
 
+// The fill's regime (src/fill/fill.cpp with its defaults): a sphere
+// field, two birth sites, a birth attempt at each every 3 steps when no
+// centre is within one radius of the site (in the snapshot read every 8
+// steps, plus the newborns since then, flying straight), newborns at
+// 0.5-1.0 of the top speed (0.1 sigma a step, dt 0.01 tau), purely
+// repulsive, growing to `target` particles. Reports steps/s over the whole
+// growth, the share of steps that rebuilt the neighbour lists, and the
+// per-kernel times from a second, profiled run of the same growth.
+nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, double skin_sigma) {
+  EngineParams p;
+  p.radius = kRadius;
+  p.cutoff_sigma = 0;
+  p.restitution = 0.5;
+  p.wall_restitution = 0.5;
+  p.max_step_fraction = 0.1;
+  p.dt = 0.01 * derive_constants(p).tau;
+  p.skin_sigma = skin_sigma;
+  // Sphere holding `target` spheres at packing 0.6.
+  const double R = std::cbrt(3 * target * (4.0 / 3.0) * M_PI * std::pow(kRadius, 3) / (0.6 * 4 * M_PI));
+  ScalarGrid field;
+  {
+    const double spacing = kRadius / 2;
+    const int n = static_cast<int>(std::ceil(2 * R / spacing)) + 5;
+    field.spacing = spacing;
+    field.origin = Vec3(-1, -1, -1) * (R + 2 * spacing);
+    field.dims = {n, n, n};
+    field.values.resize(static_cast<size_t>(n) * n * n);
+    for (int k = 0; k < n; ++k)
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) field.values[field.index(i, j, k)] = static_cast<float>(length(field.point(i, j, k)) - R);
+  }
+  const Vec3 sites[2] = {{-R / 2, 0, 0}, {R / 2, 0, 0}};
+  const uint64_t step_cap = 40 * target;
+
+  struct Outcome {
+    double seconds = 0;
+    uint64_t steps = 0, rebuilds = 0;
+    size_t n = 0;
+    uint32_t overflow = 0;
+  };
+  auto grow = [&](Engine& engine) {
+    Outcome o;
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> uni(0, 1);
+    std::normal_distribution<double> gauss(0, 1);
+    const double top = engine.constants().max_speed, dt = engine.constants().dt;
+    std::vector<Vec3> snapshot;
+    struct Newborn { Vec3 x, v; uint64_t step; };
+    std::vector<Newborn> newborns;
+    const auto start = Clock::now();
+    while (engine.size() < target && engine.steps_done() < step_cap) {
+      for (int s = 0; s < 8; ++s) {
+        if (engine.steps_done() % 3 == 0)
+          for (const Vec3& site : sites) {
+            if (engine.size() >= target) break;
+            bool room = true;
+            for (const Vec3& q : snapshot) room = room && length(q - site) >= 2 * kRadius * 0.5;
+            for (const Newborn& b : newborns)
+              room = room && length(b.x + b.v * (dt * (engine.steps_done() - b.step)) - site) >= 2 * kRadius * 0.5;
+            if (!room) continue;
+            Vec3 dir;
+            do dir = {gauss(rng), gauss(rng), gauss(rng)}; while (length(dir) < 1e-9);
+            Particle b;
+            b.position = site;
+            b.radius = kRadius;
+            b.velocity = dir / length(dir) * (top * (0.5 + 0.5 * uni(rng)));
+            engine.add_particle(b);
+            newborns.push_back({b.position, b.velocity, engine.steps_done()});
+          }
+        engine.run_steps(1);
+      }
+      for (const StepRecord& r : engine.read_history()) {
+        o.rebuilds += r.lists_rebuilt;
+        o.overflow += r.cell_overflow;
+      }
+      const auto flagged = engine.flagged_particles();
+      if (!flagged.empty()) {
+        engine.clear_flags();
+        engine.remove_particles(flagged);
+      }
+      snapshot.clear();
+      for (const Particle& q : engine.read_particles()) snapshot.push_back(q.position);
+      newborns.clear();
+    }
+    o.seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    o.steps = engine.steps_done();
+    o.n = engine.size();
+    return o;
+  };
+  Engine engine(device, p);
+  engine.set_field(field);
+  const Outcome o = grow(engine);
+  Engine prof(profiled, p);
+  prof.set_field(field);
+  const Outcome po = grow(prof);
+  nlohmann::json kernels = nlohmann::json::object();
+  for (const auto& [name, seconds] : prof.kernel_times()) kernels[name] = seconds / po.steps * 1e6;
+
+  nlohmann::json j;
+  j["n"] = o.n;
+  j["cutoff"] = "repulsive";
+  j["mode"] = "fill regime: growth from 0 to N, births at 2 sites every 3 steps at 0.5-1 of the top speed, "
+              "history and positions read every 8 steps";
+  j["steps"] = o.steps;
+  j["seconds"] = o.seconds;
+  j["steps_per_second"] = o.steps / o.seconds;
+  j["us_per_step"] = 1e6 * o.seconds / o.steps;
+  j["skin_sigma"] = skin_sigma;
+  j["rebuild_share"] = static_cast<double>(o.rebuilds) / o.steps;
+  j["kernel_us_per_step"] = kernels;
+  j["cell_overflow_hits"] = o.overflow;
+  return j;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool big = false, quick = false;
+  bool big = false, quick = false, fill_only = false;
+  double skin = 0.3;  // the fill's default (FillOptions::skin)
   size_t only = 0;
   std::string json_path;
   for (int i = 1; i < argc; ++i) {
     if (!std::strcmp(argv[i], "--big")) big = true;
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
+    else if (!std::strcmp(argv[i], "--fill")) fill_only = true;
+    else if (!std::strcmp(argv[i], "--skin") && i + 1 < argc) skin = std::strtod(argv[++i], nullptr);
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--only N] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--json FILE]\n");
       return 2;
     }
   }
@@ -233,8 +352,18 @@ int main(int argc, char** argv) {
     all["device"] = device.info().name;
     all["platform"] = device.info().platform;
     all["compute_units"] = device.info().compute_units;
+    if (!only || only == 4000 || fill_only) {
+      const nlohmann::json j = run_fill_case(device, profiled, quick ? 2000 : 4000, skin);
+      std::printf("fill regime: 0 -> %zu particles in %llu steps, %.2f s: %8.0f steps/s %9.1f us/step, lists rebuilt on %.0f%% of steps  kernels(us/step):",
+                  j["n"].get<size_t>(), static_cast<unsigned long long>(j["steps"].get<uint64_t>()), j["seconds"].get<double>(),
+                  j["steps_per_second"].get<double>(), j["us_per_step"].get<double>(), 100 * j["rebuild_share"].get<double>());
+      for (const auto& [k, v] : j["kernel_us_per_step"].items()) std::printf(" %s %.1f", k.c_str(), v.get<double>());
+      std::printf("%s\n", j["cell_overflow_hits"].get<uint32_t>() ? "  CELL OVERFLOW" : "");
+      std::fflush(stdout);
+      all["cases"].push_back(j);
+    }
     for (const Case& c : cases) {
-      if (only && c.n != only) continue;
+      if (fill_only || (only && c.n != only)) continue;
       const nlohmann::json j = run_case(device, profiled, c, quick);
       std::printf("N=%-6zu%s %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
                   c.n, c.births ? "+b" : "  ", j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),

@@ -14,9 +14,10 @@
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
  * count word is (stamp << 8 | count); a count whose stamp is not the
  * current one reads as zero, so cells never need clearing. A cell's slots
- * are one block of 5 rows of PF_CELL_CAP floats holding copies of its
- * particles' x, y, z, radius and index (as uint bits), so a list build
- * reads 8 candidates at once as float8 vectors without gathers.
+ * are one block of PF_CELL_CAP / 8 chunks, each of 5 rows of 8 floats
+ * holding copies of 8 particles' x, y, z, radius and index (as uint bits),
+ * so a list build reads 8 candidates at once as float8 vectors from 160
+ * contiguous bytes, without gathers.
  *
  * Neighbour lists (Verlet, with a skin): each particle keeps the indices
  * of the particles within PF_RL of it (cutoff or contact reach, plus the
@@ -64,11 +65,11 @@
 #define PF_RL2 1.6f
 #define PF_HALF_SKIN2 0.01f
 #define PF_LIST_CAP 32u
-#define PF_BIRTH_RL2 2.0f
 #endif
 
 #define PF_COUNT_MASK 0xFFu
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
+#define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
 #define PF_RECORD 8
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
@@ -95,12 +96,12 @@ void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uin
     const uint seen = atomic_cmpxchg(&counts[cell], old, want);
     if (seen == old) {
       if (count < PF_CELL_CAP) {
-        __global float* block = slots + cell * PF_BLOCK + count;
-        block[0] = x.x;
-        block[PF_CELL_CAP] = x.y;
-        block[2u * PF_CELL_CAP] = x.z;
-        block[3u * PF_CELL_CAP] = x.w;
-        block[4u * PF_CELL_CAP] = as_float(i);
+        __global float* block = slots + cell * PF_BLOCK;
+        block[PF_SLOT(count, 0u)] = x.x;
+        block[PF_SLOT(count, 1u)] = x.y;
+        block[PF_SLOT(count, 2u)] = x.z;
+        block[PF_SLOT(count, 3u)] = x.w;
+        block[PF_SLOT(count, 4u)] = as_float(i);
       }
       return;
     }
@@ -112,11 +113,12 @@ void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uin
  * counters: pairs in bits 0-15, flagged bit 16, overflow bit 17). */
 #define PF_FLAGGED_BIT 0x10000u
 #define PF_OVERFLOW_BIT 0x20000u
+#define PF_REBUILT_BIT 0x40000u /* set by particle 0 on a step that rebuilt the lists */
 
 /* Sums particle records [first, end) into one partial record at out. */
 void pf_sum_records(__global const float4* S, uint first, uint end, uint n, __global float* out) {
   float ke = 0.0f, speed = 0.0f, disp = 0.0f;
-  uint pairs = 0u, flagged = 0u, overflow = 0u;
+  uint pairs = 0u, flagged = 0u, overflow = 0u, rebuilt = 0u;
   for (uint k = first; k < end; ++k) {
     const float4 r = S[k];
     const uint bits = as_uint(r.w);
@@ -126,8 +128,9 @@ void pf_sum_records(__global const float4* S, uint first, uint end, uint n, __gl
     pairs += bits & 0xFFFFu;
     flagged += (bits >> 16) & 1u;
     overflow += (bits >> 17) & 1u;
+    rebuilt |= (bits >> 18) & 1u;
   }
-  vstore4((float4)(ke, speed, disp, 0.0f), 0, out);
+  vstore4((float4)(ke, speed, disp, (float)rebuilt), 0, out);
   vstore4(as_float4((uint4)(pairs, flagged, overflow, n)), 1, out);
 }
 
@@ -138,7 +141,7 @@ void pf_sum_partials(__global const float* P, uint groups, __global float* out) 
   for (uint g = 0; g < groups; ++g) {
     const float4 pf = vload4(0, P + g * PF_RECORD);
     const uint4 pu = as_uint4(vload4(1, P + g * PF_RECORD));
-    f = (float4)(f.x + pf.x, fmax(f.y, pf.y), fmax(f.z, pf.z), 0.0f);
+    f = (float4)(f.x + pf.x, fmax(f.y, pf.y), fmax(f.z, pf.z), fmax(f.w, pf.w));
     u = (uint4)(u.x + pu.x, u.y + pu.y, u.z + pu.z, max(u.w, pu.w));
   }
   vstore4(f, 0, out);
@@ -203,11 +206,14 @@ __kernel void birth_one(__global float4* X, __global float4* V, __global uint* f
 }
 
 /* One birth while the lists are valid (one launch over n + 1 items, n
- * the count before the birth): item i < n lists the newcomer b = n if it is
- * within PF_BIRTH_RL of it (the list reach plus half the skin: i may already
- * have used half its skin), and takes a slot in b's list (list_count[b] is
- * 0 beforehand); item n writes the newcomer. A full list raises the rebuild
- * request the next step reads. */
+ * the count before the birth): item i < n lists the newcomer b = n if its
+ * reference position XREF[i] is within PF_RL of b, the rule the lists were
+ * built by (b's reference is where it is born): a pair left out can only
+ * come within reach after drifts from the references of more than the skin
+ * in all, which the rebuild test (each drift at most half the skin) rules
+ * out. It takes a slot in b's list (list_count[b] is 0 beforehand); item n
+ * writes the newcomer. A full list raises the rebuild request the next step
+ * reads. */
 __kernel void birth_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
                            __global uint* list, __global uint* list_count, __global float4* XREF,
                            __global uint* request, const uint request_next, const uint n, const float4 x,
@@ -222,9 +228,9 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
     return;
   }
   if (i > n) return;
-  float4 d = X[i] - x;
+  float4 d = XREF[i] - x;
   d.w = 0.0f;
-  if (dot(d, d) >= PF_BIRTH_RL2) return;
+  if (dot(d, d) >= PF_RL2) return;
   const uint mine = list_count[i];
   const uint slot = atomic_inc(&list_count[n]);
   if (mine < PF_LIST_CAP && slot < PF_LIST_CAP) {
@@ -312,7 +318,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
         const uint cell = pf_cell_index(cc, cell_dims);
         const uint m = min(pf_cell_count(counts, cell, stamp), PF_CELL_CAP);
         for (uint k = 0; k < m; ++k) {
-          const uint j = as_uint(slots[cell * PF_BLOCK + 4u * PF_CELL_CAP + k]);
+          const uint j = as_uint(slots[cell * PF_BLOCK + PF_SLOT(k, 4u)]);
           if (j == i) continue;
           const float4 xj = X[j];
           float4 d = xi - xj;
@@ -327,10 +333,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
   out_count[i] = found;
 }
 
-/* Sorts a list row by index. The cells list particles in the order their
- * atomic insertions happened, which varies run to run on a multi-threaded
- * device; a sorted list sums the forces in one order, so the same input
- * gives the same particles. */
+/* Sorts a list row (or a piece of one) by index (see pf_build_list). */
 void pf_sort_row(__global uint* row, uint count) {
   for (uint k = 1; k < count; ++k) {
     const uint v = row[k];
@@ -340,9 +343,37 @@ void pf_sort_row(__global uint* row, uint count) {
   }
 }
 
+/* One compare-exchange stage of a bitonic sorting network over 8 lanes:
+ * each lane meets the lane `partner` (a swizzle of v) and keeps the smaller
+ * value where take_lo is set, the larger elsewhere. */
+#define PF_SORT_STAGE(v, partner, take_lo) \
+  do { \
+    const uint8 p_ = (partner); \
+    v = select(max(v, p_), min(v, p_), (take_lo)); \
+  } while (0)
+
+/* The 8 lanes of v in ascending order (bitonic network, 6 stages). */
+uint8 pf_sort8(uint8 v) {
+  PF_SORT_STAGE(v, v.s10325476, (int8)(-1, 0, 0, -1, -1, 0, 0, -1));
+  PF_SORT_STAGE(v, v.s23016745, (int8)(-1, -1, 0, 0, 0, 0, -1, -1));
+  PF_SORT_STAGE(v, v.s10325476, (int8)(-1, 0, -1, 0, 0, -1, 0, -1));
+  PF_SORT_STAGE(v, v.s45670123, (int8)(-1, -1, -1, -1, 0, 0, 0, 0));
+  PF_SORT_STAGE(v, v.s23016745, (int8)(-1, -1, 0, 0, -1, -1, 0, 0));
+  PF_SORT_STAGE(v, v.s10325476, (int8)(-1, 0, -1, 0, -1, 0, -1, 0));
+  return v;
+}
+
 /* Rebuilds particle i's neighbour list from the cells: indices j != i
  * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
- * more set the overflow bit in *bits). */
+ * more set the overflow bit in *bits).
+ *
+ * Order: cell by cell in a fixed order, each cell's neighbours ascending by
+ * index. The cells list particles in the order their atomic insertions
+ * happened, which varies run to run on a multi-threaded device; this order
+ * does not, so the forces sum in one order and the same input gives the
+ * same particles. A chunk of 8 candidates is sorted in registers (the
+ * lanes that are not neighbours become UINT_MAX and sort last) and stored
+ * as one vector; a cell of more than 8 is sorted as a whole afterwards. */
 uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
                    int4 c, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
@@ -356,30 +387,34 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           *bits |= PF_OVERFLOW_BIT;
           m = PF_CELL_CAP;
         }
+        const uint cell_first = found;
         __global const float* block = slots + cell * PF_BLOCK;
         for (uint k = 0; k < m; k += 8u) {
-          const float8 dx = xi.x - vload8(0, block + k), dy = xi.y - vload8(0, block + PF_CELL_CAP + k);
-          const float8 dz = xi.z - vload8(0, block + 2u * PF_CELL_CAP + k);
-          const uint8 jj = as_uint8(vload8(0, block + 4u * PF_CELL_CAP + k));
+          __global const float* chunk = block + 5u * k; /* k is a multiple of 8: chunk k / 8 */
+          const float8 dx = xi.x - vload8(0, chunk), dy = xi.y - vload8(1, chunk), dz = xi.z - vload8(2, chunk);
+          const uint8 jj = as_uint8(vload8(4, chunk));
           const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
           const int8 near = (lane < (int8)((int)m)) & (jj != (uint8)(i)) & (dx * dx + dy * dy + dz * dz < PF_RL2);
-          if (!any(near)) continue;
-          int mask[8];
-          uint js[8];
-          vstore8(near, 0, mask);
-          vstore8(jj, 0, js);
-          for (int l = 0; l < 8; ++l) {
-            if (!mask[l]) continue;
-            if (found < PF_LIST_CAP) row[found] = js[l];
-            ++found;
+          /* counted as floats: oclgrind (1.x) mis-sums lanes of integer masks */
+          const float8 hit = select((float8)(0.0f), (float8)(1.0f), near);
+          const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
+          if (hits == 0u) continue;
+          const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj, near));
+          if (found + 8u <= PF_LIST_CAP) {
+            vstore8(sorted, 0, row + found);
+          } else {
+            uint js[8];
+            vstore8(sorted, 0, js);
+            for (uint l = 0; l < hits && found + l < PF_LIST_CAP; ++l) row[found + l] = js[l];
           }
+          found += hits;
         }
+        if (m > 8u && found > cell_first) pf_sort_row(row + cell_first, min(found, PF_LIST_CAP) - min(cell_first, PF_LIST_CAP));
       }
   if (found > PF_LIST_CAP) {
     *bits |= PF_OVERFLOW_BIT;
     found = PF_LIST_CAP;
   }
-  pf_sort_row(row, found);
   return found;
 }
 
@@ -412,6 +447,7 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
                           row, &bits);
     list_count[i] = count;
     XREF[i] = xi;
+    if (i == 0) bits |= PF_REBUILT_BIT;
   } else {
     count = min(list_count[i], PF_LIST_CAP);
     /* newcomers' lists were filled by atomics (birth_linked): sort them once */

@@ -130,8 +130,7 @@ struct Engine::Impl {
             {"PF_WALL_ITERATIONS", "2"},
             {"PF_RL2", flt(c.list_reach * c.list_reach)},
             {"PF_HALF_SKIN2", flt(0.25 * c.skin * c.skin)},
-            {"PF_LIST_CAP", std::to_string(c.list_capacity) + "u"},
-            {"PF_BIRTH_RL2", flt(std::pow(c.list_reach + 0.5 * c.skin, 2))}};
+            {"PF_LIST_CAP", std::to_string(c.list_capacity) + "u"}};
   }
 
   void run(Kernel& k, size_t items) {
@@ -313,6 +312,7 @@ struct Engine::Impl {
       rec.kinetic_energy = r[0];
       rec.max_speed = r[1];
       rec.max_displacement = r[2];
+      rec.lists_rebuilt = r[3] > 0.5f;
       rec.colliding_pairs = as_uint(r[4]);
       rec.flagged = as_uint(r[5]);
       rec.cell_overflow = as_uint(r[6]);
