@@ -7,6 +7,7 @@
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/shapes.hpp"
+#include "pfill/voids.hpp"
 
 using namespace pfill;
 
@@ -84,4 +85,33 @@ TEST_CASE("repair_containment moves crossing spheres inside and removes those wi
   ParticleSet big = spheres({{0.5, 0, 0}}, 1.5);
   CHECK(repair_containment(b, big, 0.01, 0.05).removed == 1);
   CHECK(big.size() == 0);
+}
+
+TEST_CASE("find_voids finds the one hole of a lattice with a sphere taken out, and nothing in a full one") {
+  const double r = 0.1;
+  ParticleSet full;
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int k = -3; k <= 3; ++k) {
+        full.positions.push_back(Vec3(i, j, k) * (2 * r));
+        full.radii.push_back(r);
+      }
+  // A field of a box holding the lattice: every sample deep enough.
+  ScalarGrid sdf;
+  sdf.origin = {-0.6, -0.6, -0.6};
+  sdf.spacing = r / 4;
+  sdf.dims = {49, 49, 49};
+  sdf.values.assign(49 * 49 * 49, -1.0f);
+  const double clearance = 1.8 * r;  // more than the lattice's biggest gap, sqrt(3) r
+  CHECK(find_voids(full, sdf, r, clearance, 100).empty());
+
+  ParticleSet holed = full;
+  const size_t centre = holed.positions.size() / 2;  // the sphere at the origin
+  REQUIRE(length(holed.positions[centre]) < 1e-12);
+  holed.positions.erase(holed.positions.begin() + centre);
+  holed.radii.erase(holed.radii.begin() + centre);
+  const std::vector<Vec3> voids = find_voids(holed, sdf, r, clearance, 100);
+  REQUIRE(voids.size() == 1);
+  CHECK(length(voids[0]) <= 0.2 * r + 1e-9);
+  CHECK(find_voids(holed, sdf, r, clearance, 0).empty());
 }

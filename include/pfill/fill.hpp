@@ -69,12 +69,14 @@ struct FillOptions {
   int top_up_patience = 1500;   ///< pass 2 gives up after this many steps without a birth
   double rest_speed = 0.02;     ///< at rest: top speed below this fraction of the speed cap ...
   int rest_steps = 200;         ///< ... for this many steps
-  uint64_t settle_budget = 5000;
+  uint64_t settle_budget = 2000;
   double max_overlap = 0.05;    ///< overlap bound after relief, fraction of r
   double relief_fraction = 0.02;///< share of overlapping spheres removed per relief round
   int relief_steps = 300;       ///< damped relaxation steps per relief round
   int max_relief_rounds = 80;
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
+  int void_rounds = 2;          ///< rounds of inserting spheres into holes after the relief (0: none)
+  double void_clearance = 0.8;  ///< a hole takes a sphere when the nearest centre is this many 2r away
 
   // Colour: from the surface (vertex colours, texture), by depth, none, or
   // one colour. Empty: surface when the mesh has colours, else none.
@@ -83,7 +85,7 @@ struct FillOptions {
   // Machinery.
   double field_spacing = 0.33;  ///< signed distance grid spacing, in radii
   size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
-  double skin = 0.3;            ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it)
+  double skin = 0.5;            ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it)
   int sync_every = 8;           ///< steps between reads of the step history
   std::string device;           ///< OpenCL device spec (index or name); "" = default
   std::function<void(const FillProgress&)> progress;
@@ -111,6 +113,7 @@ struct FillResult {
   size_t ke_events = 0, collision_events = 0;
   size_t relief_removed = 0;    ///< removed to bring overlaps under the bound
   size_t relief_rounds = 0;
+  size_t voids_filled = 0;      ///< spheres inserted into holes after the relief (some may go again)
   ContainmentRepair containment;
   std::vector<PassStats> passes;
   std::vector<BirthSite> sites;

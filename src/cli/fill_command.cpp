@@ -124,6 +124,7 @@ nlohmann::ordered_json report_json(const FillArgs& a, const Mesh& mesh, const Fi
           {"lost_outside", r.lost_outside},
           {"relief_removed", r.relief_removed},
           {"relief_rounds", r.relief_rounds},
+          {"voids_filled", r.voids_filled},
           {"containment_moved", r.containment.moved},
           {"containment_removed", r.containment.removed},
           {"passes", passes},
@@ -184,6 +185,7 @@ void run_fill(FillArgs& a) {
   print_metrics(stdout, r.metrics);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
+  std::printf("  added           %s into holes after the relief\n", thousands(r.voids_filled).c_str());
   std::printf("  removed         %s flagged outside, %s for overlaps (%s rounds), %s by the exact check (%s moved in)\n",
               thousands(r.lost_outside).c_str(), thousands(r.relief_removed).c_str(),
               thousands(r.relief_rounds).c_str(), thousands(r.containment.removed).c_str(),
@@ -239,6 +241,11 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--stop", a->stop, "What ends pass 1: blocked (sites full), ke (kinetic energy), collisions")
       ->capture_default_str();
   cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
+      ->capture_default_str();
+  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes after the relief")
+      ->capture_default_str();
+  cmd->add_option("--void-clearance", o.void_clearance,
+                  "A hole takes a sphere when the nearest centre is this many contact distances 2r away")
       ->capture_default_str();
   cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap left after relief, fraction of r")
       ->capture_default_str();

@@ -5,6 +5,7 @@
 //   pass 2:  MaxParts = count - 1; top up to MaxParts (refill what was lost)
 //   settle:  update until at rest
 //   relief:  damped repulsive relaxation, removing the most-overlapped few
+//   voids:   insert spheres into holes the jammed packing left; relieve again
 //   verify:  exact containment repair and metrics
 //
 // The host never reads positions per step: it runs `sync_every` steps,
@@ -24,6 +25,7 @@
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/sdf.hpp"
+#include "pfill/voids.hpp"
 
 namespace pfill {
 namespace {
@@ -63,6 +65,7 @@ class FillRun {
     pass2();
     settle();
     relieve();
+    fill_voids();
     verify();
     result_.seconds = seconds_since(start_);
     result_.steps = fill_steps_ + relax_steps_;
@@ -279,14 +282,21 @@ class FillRun {
     relax.restitution = 0;
     relax.wall_restitution = 0;
     relax.damping = -std::log(0.9) / derive_constants(relax).dt;  // speeds fall 10% a step
-    Engine relaxer(*device_, relax);
-    relaxer.set_field(field_);
+    relaxer_ = std::make_unique<Engine>(*device_, relax);
+    relaxer_->set_field(field_);
     std::vector<Particle> ps = engine_->read_particles();
     for (Particle& p : ps) p.velocity = {};
-    relaxer.add_particles(ps);
+    relaxer_->add_particles(ps);
     fill_steps_ = engine_->steps_done();
     engine_.reset();  // the relaxer holds the particles from here on
+    relieve_overlaps();
+    result_.passes.push_back({"relief", relax_steps_, seconds_since(t)});
+  }
 
+  /// Rounds of relaxation; after each, the worst `relief_fraction` of the
+  /// spheres overlapping more than the bound are removed.
+  void relieve_overlaps() {
+    Engine& relaxer = *relaxer_;
     for (int round = 0;; ++round) {
       relaxer.run_steps(o_.relief_steps);
       relax_steps_ += o_.relief_steps;
@@ -296,7 +306,7 @@ class FillRun {
       const std::vector<Overlap> overlaps = find_overlaps(particles_, o_.max_overlap);
       report_particles(particles_.size(), 0, static_cast<uint32_t>(overlaps.size()));
       if (overlaps.empty()) {
-        result_.relief_rounds = static_cast<size_t>(round) + 1;
+        result_.relief_rounds += static_cast<size_t>(round) + 1;
         break;
       }
       // Each sphere's worst overlap.
@@ -319,7 +329,7 @@ class FillRun {
         result_.relief_removed += out.size();
         relaxer.remove_particles(out);
         particles_ = to_particle_set(relaxer.read_particles());
-        result_.relief_rounds = static_cast<size_t>(round) + 1;
+        result_.relief_rounds += static_cast<size_t>(round) + 1;
         break;
       }
       // Remove the worst `relief_fraction` of the overlapping spheres.
@@ -333,7 +343,27 @@ class FillRun {
       result_.relief_removed += over.size();
       relaxer.remove_particles(over);
     }
-    result_.passes.push_back({"relief", relax_steps_, seconds_since(t)});
+  }
+
+  // ---- voids: insert spheres where the jammed packing left room, relieve again ----
+  void fill_voids() {
+    const auto t = Clock::now();
+    const uint64_t first = relax_steps_;
+    phase_ = "voids";
+    for (int round = 0; round < o_.void_rounds; ++round) {
+      const std::vector<Vec3> voids =
+          find_voids(particles_, field_, radius_, o_.void_clearance * 2 * radius_, particles_.size());
+      if (voids.empty()) break;
+      std::vector<Particle> newcomers(voids.size());
+      for (size_t k = 0; k < voids.size(); ++k) {
+        newcomers[k].position = voids[k];
+        newcomers[k].radius = radius_;
+      }
+      relaxer_->add_particles(newcomers);
+      result_.voids_filled += voids.size();
+      relieve_overlaps();
+    }
+    result_.passes.push_back({"voids", relax_steps_ - first, seconds_since(t)});
   }
 
   // ---- verify: exact containment, then the metrics ----
@@ -484,6 +514,7 @@ class FillRun {
   std::unique_ptr<Device> device_;
   EngineParams params_;
   std::unique_ptr<Engine> engine_;
+  std::unique_ptr<Engine> relaxer_;  ///< damped, repulsive: holds the particles from the relief on
   std::vector<StepRecord> history_;
   std::vector<Vec3> snapshot_;
   struct Newborn {

@@ -4,9 +4,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 
 #include <tbb/parallel_for.h>
+
+#include "fill/centre_grid.hpp"
 
 namespace pfill {
 namespace {
@@ -14,41 +15,6 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 // Spheres that touch to within rounding do not overlap.
 constexpr double kTouching = 1e-9;
-
-// A uniform hash grid over sphere centres, for neighbour queries on the host.
-class CentreGrid {
- public:
-  CentreGrid(const std::vector<Vec3>& centres, double cell) : centres_(centres), inv_(1.0 / cell) {
-    cells_.reserve(centres.size());
-    for (size_t i = 0; i < centres.size(); ++i) cells_[key(cell_of(centres[i]))].push_back(static_cast<uint32_t>(i));
-  }
-
-  /// Calls f(j) for every centre j in the 27 cells around p.
-  template <class F>
-  void for_near(const Vec3& p, F&& f) const {
-    const auto c = cell_of(p);
-    for (int dz = -1; dz <= 1; ++dz)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dx = -1; dx <= 1; ++dx) {
-          auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
-          if (it == cells_.end()) continue;
-          for (uint32_t j : it->second) f(j);
-        }
-  }
-
- private:
-  std::array<int64_t, 3> cell_of(const Vec3& p) const {
-    return {static_cast<int64_t>(std::floor(p.x * inv_)), static_cast<int64_t>(std::floor(p.y * inv_)),
-            static_cast<int64_t>(std::floor(p.z * inv_))};
-  }
-  static uint64_t key(const std::array<int64_t, 3>& c) {
-    return (static_cast<uint64_t>(c[0] & 0x1FFFFF) << 42) | (static_cast<uint64_t>(c[1] & 0x1FFFFF) << 21) |
-           static_cast<uint64_t>(c[2] & 0x1FFFFF);
-  }
-  const std::vector<Vec3>& centres_;
-  double inv_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-};
 
 double max_radius(const ParticleSet& p) {
   double m = 0;
