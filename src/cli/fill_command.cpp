@@ -135,11 +135,25 @@ nlohmann::ordered_json report_json(const FillArgs& a, const Mesh& mesh, const Fi
           {"warnings", r.warnings}};
 }
 
+// Fails before a long fill, not after it, when an output cannot be written.
+void check_output_folder(const std::string& path, const char* what) {
+  if (path.empty()) return;
+  const fs::path folder = fs::absolute(fs::path(path)).parent_path();
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec))
+    throw Error("cannot write " + std::string(what) + " '" + path + "': the folder " + folder.string() +
+                " does not exist; create it or choose another path");
+}
+
 void run_fill(FillArgs& a) {
   const bool from_file = !a.mesh.empty();
   const Mesh mesh = from_file ? load_mesh(a.mesh) : make_builtin(a.builtin);
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
+  check_output_folder(a.output, "the output");
+  particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
+  check_output_folder(a.preview, "the preview");
+  check_output_folder(a.report, "the report");
   if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
   parse_exponents(a.exponents, a.options);
   a.options.stop = parse_stop_criterion(a.stop);
