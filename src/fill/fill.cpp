@@ -410,7 +410,8 @@ class FillRun {
       last_frame_ = engine_->steps_done() / o_.frame_every;
       o_.on_frame(engine_->steps_done(), to_particle_set(ps));
     }
-    if (!history_.empty()) report_particles(engine_->size(), history_.back().kinetic_energy, history_.back().colliding_pairs);
+    if (!history_.empty())
+      report_particles(engine_->size(), history_.back().kinetic_energy, history_.back().colliding_pairs);
     return born;
   }
 
@@ -452,6 +453,8 @@ class FillRun {
     }
   }
 
+  /// The last index holds the newest particle unless a flagged removal has
+  /// since moved an older one there (removal swaps with the last): close enough.
   void remove_newest() {
     if (engine_->size() > 0) engine_->remove_particles({engine_->size() - 1});
   }
