@@ -7,9 +7,11 @@
 // Per-kernel times come from a second, profiled run. The fill regime
 // (run_fill_case; --fill runs only it): growth from 0 to 4,000 by births
 // at fast speeds, as a fill's pass 1 does. Text on stdout, JSON with
-// --json FILE.
+// --json FILE. With --field-image every case runs twice, the wall field
+// as a buffer (the default) and as a 3D image (EngineParams::field_image),
+// printed one line after the other.
 //
-//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--json FILE]
+//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -103,8 +105,9 @@ double median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool quick) {
+nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool quick, bool field_image) {
   EngineParams p;
+  p.field_image = field_image;
   p.radius = kRadius;
   p.cutoff_sigma = c.cutoff_sigma;
   p.restitution = 0.5;
@@ -212,8 +215,9 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 // repulsive, growing to `target` particles. Reports steps/s over the whole
 // growth, the share of steps that rebuilt the neighbour lists, and the
 // per-kernel times from a second, profiled run of the same growth.
-nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, double skin_sigma) {
+nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, double skin_sigma, bool field_image) {
   EngineParams p;
+  p.field_image = field_image;
   p.radius = kRadius;
   p.cutoff_sigma = 0;
   p.restitution = 0.5;
@@ -321,7 +325,7 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
 }  // namespace
 
 int main(int argc, char** argv) {
-  bool big = false, quick = false, fill_only = false;
+  bool big = false, quick = false, fill_only = false, field_image = false;
   double skin = 0.3;  // the fill's default (FillOptions::skin)
   size_t only = 0;
   std::string json_path;
@@ -329,11 +333,12 @@ int main(int argc, char** argv) {
     if (!std::strcmp(argv[i], "--big")) big = true;
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--fill")) fill_only = true;
+    else if (!std::strcmp(argv[i], "--field-image")) field_image = true;
     else if (!std::strcmp(argv[i], "--skin") && i + 1 < argc) skin = std::strtod(argv[++i], nullptr);
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--json FILE]\n");
       return 2;
     }
   }
@@ -352,21 +357,26 @@ int main(int argc, char** argv) {
     all["device"] = device.info().name;
     all["platform"] = device.info().platform;
     all["compute_units"] = device.info().compute_units;
-    if (!only || only == 4000 || fill_only) {
-      const nlohmann::json j = run_fill_case(device, profiled, quick ? 2000 : 4000, skin);
-      std::printf("fill regime: 0 -> %zu particles in %llu steps, %.2f s: %8.0f steps/s %9.1f us/step, lists rebuilt on %.0f%% of steps  kernels(us/step):",
-                  j["n"].get<size_t>(), static_cast<unsigned long long>(j["steps"].get<uint64_t>()), j["seconds"].get<double>(),
+    std::vector<bool> fields = {false};  // field_image settings to run
+    if (field_image) fields.push_back(true);
+    auto label = [&](bool image) { return field_image ? (image ? "[image]  " : "[buffer] ") : ""; };
+    if (!only || only == 4000 || fill_only) for (bool image : fields) {
+      nlohmann::json j = run_fill_case(device, profiled, quick ? 2000 : 4000, skin, image);
+      j["field"] = image ? "image" : "buffer";
+      std::printf("%sfill regime: 0 -> %zu particles in %llu steps, %.2f s: %8.0f steps/s %9.1f us/step, lists rebuilt on %.0f%% of steps  kernels(us/step):",
+                  label(image), j["n"].get<size_t>(), static_cast<unsigned long long>(j["steps"].get<uint64_t>()), j["seconds"].get<double>(),
                   j["steps_per_second"].get<double>(), j["us_per_step"].get<double>(), 100 * j["rebuild_share"].get<double>());
       for (const auto& [k, v] : j["kernel_us_per_step"].items()) std::printf(" %s %.1f", k.c_str(), v.get<double>());
       std::printf("%s\n", j["cell_overflow_hits"].get<uint32_t>() ? "  CELL OVERFLOW" : "");
       std::fflush(stdout);
       all["cases"].push_back(j);
     }
-    for (const Case& c : cases) {
+    for (const Case& c : cases) for (bool image : fields) {
       if (fill_only || (only && c.n != only)) continue;
-      const nlohmann::json j = run_case(device, profiled, c, quick);
-      std::printf("N=%-6zu%s %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
-                  c.n, c.births ? "+b" : "  ", j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),
+      nlohmann::json j = run_case(device, profiled, c, quick, image);
+      j["field"] = image ? "image" : "buffer";
+      std::printf("%sN=%-6zu%s %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
+                  label(image), c.n, c.births ? "+b" : "  ", j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),
                   j["particle_steps_per_second"].get<double>(), j["us_per_step"].get<double>(),
                   j["cpu_us_per_step"].get<double>());
       for (const auto& [k, v] : j["kernel_us_per_step"].items()) std::printf(" %s %.1f", k.c_str(), v.get<double>());

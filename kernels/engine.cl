@@ -418,13 +418,55 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   return found;
 }
 
+/* The wall's field: a global float buffer sampled by physics.cl
+ * pf_sdf_sample (the default), or with PF_FIELD_IMAGE a CL_R / CL_FLOAT
+ * image3d_t whose 8 corners are read with a NEAREST sampler at integer
+ * coordinates and blended by the same trilinear formula in float, so the
+ * value and the gradient are those of the buffer path (hardware LINEAR
+ * filtering would round the weights to 8 bits on GPUs). */
+#ifdef PF_FIELD_IMAGE
+#define PF_FIELD_ARG __read_only image3d_t
+#define PF_FIELD_SAMPLE pf_sdf_sample_image
+__constant sampler_t pf_field_sampler = CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
+
+float pf_field_at(__read_only image3d_t f, int i, int j, int k) {
+  return read_imagef(f, pf_field_sampler, (int4)(i, j, k, 0)).x;
+}
+
+/* pf_sdf_sample (physics.cl) with the values read from the image. */
+float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float ox, float oy, float oz,
+                          float inv_spacing, float px, float py, float pz, float* g) {
+  const float gx = fmin(fmax((px - ox) * inv_spacing, 0.0f), (float)(nx - 1));
+  const float gy = fmin(fmax((py - oy) * inv_spacing, 0.0f), (float)(ny - 1));
+  const float gz = fmin(fmax((pz - oz) * inv_spacing, 0.0f), (float)(nz - 1));
+  const int i = min((int)floor(gx), nx - 2), j = min((int)floor(gy), ny - 2), k = min((int)floor(gz), nz - 2);
+  const float tx = gx - (float)i, ty = gy - (float)j, tz = gz - (float)k;
+  const float v000 = pf_field_at(f, i, j, k), v100 = pf_field_at(f, i + 1, j, k);
+  const float v010 = pf_field_at(f, i, j + 1, k), v110 = pf_field_at(f, i + 1, j + 1, k);
+  const float v001 = pf_field_at(f, i, j, k + 1), v101 = pf_field_at(f, i + 1, j, k + 1);
+  const float v011 = pf_field_at(f, i, j + 1, k + 1), v111 = pf_field_at(f, i + 1, j + 1, k + 1);
+  const float a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
+  const float a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
+  const float b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
+  const float dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
+  const float dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
+  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
+  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
+  g[2] = (b1 - b0) * inv_spacing;
+  return b0 + (b1 - b0) * tz;
+}
+#else
+#define PF_FIELD_ARG __global const float*
+#define PF_FIELD_SAMPLE pf_sdf_sample
+#endif
+
 /* The whole update of one particle (see the top of the file), plus the
  * reduction work in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
  * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
 __kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out,
                       __global float4* V_out, __global const uint* counts, __global const float* slots,
                       const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
-                      __global const float* sdf, const float4 sdf_origin, const int4 sdf_dims,
+                      PF_FIELD_ARG sdf, const float4 sdf_origin, const int4 sdf_dims,
                       __global uint* flags, __global float* C, const uint n, __global float4* S_out,
                       __global const float4* S_prev, const uint n_prev, const uint chunk, const uint chunk_groups,
                       __global float* P_out, __global const float* P_prev, const uint groups_prev2,
@@ -514,7 +556,7 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
     float clearance = C[i] - 2.0f * PF_DT * length(u);
     if (clearance <= 0.0f) {
       float g[3];
-      float phi = pf_sdf_sample(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
+      float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
                                 sdf_origin.w, xn.x, xn.y, xn.z, g);
       const float4 grid_pos = (xn - sdf_origin) * sdf_origin.w;
       const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
@@ -532,7 +574,7 @@ __kernel void advance(__global const float4* X, __global const float4* V, __glob
           xn.x -= push * g[0];
           xn.y -= push * g[1];
           xn.z -= push * g[2];
-          phi = pf_sdf_sample(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
+          phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
                               sdf_origin.w, xn.x, xn.y, xn.z, g);
         }
         const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);

@@ -8,6 +8,7 @@
 #include <cstring>
 #include <utility>
 #include <sstream>
+#include <vector>
 
 #include "pfill/device/device.hpp"
 #include "pfill/device/program.hpp"
@@ -51,6 +52,16 @@ uint32_t as_uint(float f) {
   return u;
 }
 
+// derive_constants, plus (with field_image) the device's image support,
+// checked before the program (which then declares an image3d_t) is built.
+EngineConstants checked_constants(const Device& device, const EngineParams& p) {
+  EngineConstants c = derive_constants(p);
+  if (p.field_image && !device.device().getInfo<CL_DEVICE_IMAGE_SUPPORT>())
+    throw Error("engine: device '" + device.info().name +
+                "' has no image support (CL_DEVICE_IMAGE_SUPPORT); unset EngineParams::field_image");
+  return c;
+}
+
 }  // namespace
 
 struct Engine::Impl {
@@ -76,6 +87,7 @@ struct Engine::Impl {
   uint32_t last_stamp = 0;
   // Field.
   cl::Buffer sdf;
+  cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
   cl_float4 sdf_origin{};
   cl_int4 sdf_dims{};
   // Per-step scalars in flight (see the top of engine.cl): particle records
@@ -90,7 +102,7 @@ struct Engine::Impl {
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
-      : device(d), params(p), constants(derive_constants(p)), program(d, {"physics.cl", "engine.cl"}, defines()) {
+      : device(d), params(p), constants(checked_constants(d, p)), program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", params.work_group);
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
@@ -105,12 +117,49 @@ struct Engine::Impl {
              "clEnqueueFillBuffer", "list rebuild requests");
     sdf = device.make_buffer(sizeof(float), "sdf (none)");
     sdf_dims = i4(2, 2, 2, 0);
+    if (params.field_image) {
+      const std::vector<float> none(8, 0.0f);
+      sdf_image = make_field_image(2, 2, 2, none.data());
+    }
     reserve(64);
     if (!params.domain.empty()) set_domain(params.domain);
   }
 
+  // The field as a CL_R / CL_FLOAT 3D image (EngineParams::field_image),
+  // checked against the device's 3D image limits and formats.
+  cl::Image3D make_field_image(int nx, int ny, int nz, const float* values) const {
+    const cl::Device& dev = device.device();
+    const size_t w = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_WIDTH>(), h = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_HEIGHT>(),
+                 d = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_DEPTH>();
+    if (static_cast<size_t>(nx) > w || static_cast<size_t>(ny) > h || static_cast<size_t>(nz) > d)
+      throw Error("engine: the distance field (" + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
+                  std::to_string(nz) + ") exceeds the device's 3D image limit " + std::to_string(w) + "x" +
+                  std::to_string(h) + "x" + std::to_string(d) + "; unset EngineParams::field_image");
+    std::vector<cl::ImageFormat> formats;
+    check_cl(device.context().getSupportedImageFormats(CL_MEM_READ_ONLY, CL_MEM_OBJECT_IMAGE3D, &formats),
+             "clGetSupportedImageFormats", "sdf image");
+    const bool r_float = std::any_of(formats.begin(), formats.end(), [](const cl::ImageFormat& f) {
+      return f.image_channel_order == CL_R && f.image_channel_data_type == CL_FLOAT;
+    });
+    if (!r_float)
+      throw Error("engine: device '" + device.info().name +
+                  "' has no CL_R / CL_FLOAT 3D image format; unset EngineParams::field_image");
+    cl_int err = CL_SUCCESS;
+    cl::Image3D image(device.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cl::ImageFormat(CL_R, CL_FLOAT),
+                      static_cast<size_t>(nx), static_cast<size_t>(ny), static_cast<size_t>(nz), 0, 0,
+                      const_cast<float*>(values), &err);
+    check_cl(err, "clCreateImage", "sdf image");
+    return image;
+  }
+
   std::map<std::string, std::string> defines() const {
     const EngineConstants& c = constants;
+    std::map<std::string, std::string> d = base_defines(c);
+    if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
+    return d;
+  }
+
+  std::map<std::string, std::string> base_defines(const EngineConstants& c) const {
     return {{"PF_SIGMA2", flt(c.sigma * c.sigma)},
             {"PF_EPS", flt(params.eps)},
             {"PF_EXP_A", flt(params.exponent_a)},
@@ -272,12 +321,18 @@ struct Engine::Impl {
     const int now = static_cast<int>(steps % 2), last = 1 - now;
     const size_t chunk = chunk_for(last_n);
     const size_t chunk_groups = last_pending ? (last_n + chunk - 1) / chunk : 0;
-    k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims,
-                    sdf, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), records[now], records[last],
-                    cl_uint(last_n), cl_uint(chunk), cl_uint(chunk_groups), partials[now], partials[last],
-                    cl_uint(before_groups), history, cl_uint((steps + h - 2) % h), lists, list_counts, list_origins,
-                    rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3), cl_uint((steps + 1) % 3),
-                    cl_uint(force ? 1 : 0), sort_rows());
+    auto set_step_args = [&](const auto& field) {
+      k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv,
+                      cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), records[now],
+                      records[last], cl_uint(last_n), cl_uint(chunk), cl_uint(chunk_groups), partials[now],
+                      partials[last], cl_uint(before_groups), history, cl_uint((steps + h - 2) % h), lists,
+                      list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
+                      cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), sort_rows());
+    };
+    if (params.field_image)
+      set_step_args(sdf_image);
+    else
+      set_step_args(sdf);
     run(k_step, std::max<size_t>({n, chunk_groups, 1}));
     newcomers.clear();
     before_groups = chunk_groups;
@@ -339,9 +394,13 @@ void Engine::set_field(const ScalarGrid& field) {
     throw Error("engine: the distance field has " + std::to_string(field.values.size()) +
                 " values for its dimensions; rebuild it");
   if (!(field.spacing > 0)) throw Error("engine: the distance field's spacing must be > 0");
-  m.sdf = m.device.make_buffer(field.bytes(), "sdf");
-  check_cl(m.device.queue().enqueueWriteBuffer(m.sdf, CL_TRUE, 0, field.bytes(), field.values.data()),
-           "clEnqueueWriteBuffer", "sdf");
+  if (m.params.field_image) {
+    m.sdf_image = m.make_field_image(field.dims[0], field.dims[1], field.dims[2], field.values.data());
+  } else {
+    m.sdf = m.device.make_buffer(field.bytes(), "sdf");
+    check_cl(m.device.queue().enqueueWriteBuffer(m.sdf, CL_TRUE, 0, field.bytes(), field.values.data()),
+             "clEnqueueWriteBuffer", "sdf");
+  }
   m.sdf_origin = f4(field.origin.x, field.origin.y, field.origin.z, 1 / field.spacing);
   m.sdf_dims = i4(field.dims[0], field.dims[1], field.dims[2], 1);
   Box3 box;

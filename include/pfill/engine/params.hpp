@@ -30,6 +30,13 @@ struct EngineParams {
   Box3 domain;                     ///< cell-grid box when no field is set (particles outside still work, slower)
   size_t history_capacity = 4096;  ///< per-step records kept on the device between reads
   size_t work_group = 128;         ///< preferred work-group size (a power of two; the device may lower it)
+  /// Wall field storage: false (default) a global buffer; true a CL_R/CL_FLOAT
+  /// 3D image read by a NEAREST sampler at the 8 corners with the buffer
+  /// path's trilinear formula (same value and gradient; hardware LINEAR
+  /// filtering is not used: 8-bit weights on GPUs). A device without image
+  /// support, or a field larger than its 3D image limits, is a pfill::Error
+  /// (no silent fallback: the setting is explicit).
+  bool field_image = false;
 };
 
 /// Everything derived from EngineParams (see derive_constants).
