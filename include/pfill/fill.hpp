@@ -55,7 +55,7 @@ struct FillOptions {
   std::optional<Vec3> birth_point;  ///< overrides the first site
   double birth_speed_min = 0.3; ///< newborn speed range, as fractions of the top speed
   double birth_speed_max = 0.6;
-  double birth_clearance = 0.5; ///< a site has room when no centre is within this times 2r (measured on spot and a torus: 0.5 packs densest)
+  double birth_clearance = 0.5; ///< a site has room when no centre is within this many rest distances (2r by default) (measured on spot and a torus: 0.5 packs densest)
   uint64_t seed = 1;
 
   // Pass 1 stopping.
@@ -76,7 +76,7 @@ struct FillOptions {
   int max_relief_rounds = 80;
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
   int void_rounds = 2;          ///< rounds of inserting spheres into holes after the relief (0: none)
-  double void_clearance = 0.8;  ///< a hole takes a sphere when the nearest centre is this many 2r away
+  double void_clearance = 0.8;  ///< a hole takes a sphere when the nearest centre is this many rest distances away
 
   // Colour: from the surface (vertex colours, texture), by depth, none, or
   // one colour. Empty: surface when the mesh has colours, else none.

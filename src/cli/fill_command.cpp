@@ -222,7 +222,7 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("-o,--output", a->output,
                   "Output file; format from the extension: .ply .glb .csv .vtp (default NAME_particles.ply here)");
   cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units");
-  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius; default 4000)");
+  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius, allowing for --rest-distance; default 4000)");
   cmd->add_option("--rest-distance", o.rest_distance,
                   "Rest distance of the potential in contact distances 2r (>= 1; larger = sparser)")
       ->capture_default_str();
@@ -246,7 +246,7 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--birth-every", o.birth_every, "Steps between birth attempts at each site")
       ->capture_default_str();
   cmd->add_option("--birth-clearance", o.birth_clearance,
-                  "A site has room when no centre is within this many contact distances 2r")
+                  "A site has room when no centre is within this many rest distances")
       ->capture_default_str();
   cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed");
   cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
@@ -259,7 +259,7 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes after the relief")
       ->capture_default_str();
   cmd->add_option("--void-clearance", o.void_clearance,
-                  "A hole takes a sphere when the nearest centre is this many contact distances 2r away")
+                  "A hole takes a sphere when the nearest centre is this many rest distances away")
       ->capture_default_str();
   cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap left after relief, fraction of r")
       ->capture_default_str();

@@ -88,9 +88,12 @@ class FillRun {
     volume_ = d.volume();
     if (!(volume_ > 0)) throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
 
-    radius_ = o_.radius > 0 ? o_.radius : fill_radius_for_count(volume_, o_.count);
+    // Particles keep the rest distance apart, so with a count the spacing,
+    // not the sphere, is what must fit (the report's Fig. 4).
+    radius_ = o_.radius > 0 ? o_.radius : fill_radius_for_count(volume_, o_.count) / o_.rest_distance;
     if (!(radius_ > 0)) throw Error("give a particle radius (-r) or a count (-n)");
-    const double expected = kExpectedPacking * volume_ / (4.0 / 3.0 * kPi * radius_ * radius_ * radius_);
+    const double spacing = radius_ * o_.rest_distance;  // half the rest distance
+    const double expected = kExpectedPacking * volume_ / (4.0 / 3.0 * kPi * spacing * spacing * spacing);
     if (expected > kMaxParticles)
       throw Error("a radius of " + fmt(radius_) + " would give about " + fmt(expected) +
                   " particles, more than pfill handles (" + fmt(kMaxParticles) +
@@ -352,7 +355,7 @@ class FillRun {
     phase_ = "voids";
     for (int round = 0; round < o_.void_rounds; ++round) {
       const std::vector<Vec3> voids =
-          find_voids(particles_, field_, radius_, o_.void_clearance * 2 * radius_, particles_.size());
+          find_voids(particles_, field_, radius_, o_.void_clearance * rest_distance(), particles_.size());
       if (voids.empty()) break;
       std::vector<Particle> newcomers(voids.size());
       for (size_t k = 0; k < voids.size(); ++k) {
@@ -415,10 +418,14 @@ class FillRun {
     return born;
   }
 
+  /// Centre distance at the potential's minimum: the spacing the user asked
+  /// for (2r, or more for sparser fills), which the room tests scale with.
+  double rest_distance() const { return o_.rest_distance * 2 * radius_; }
+
   /// One newborn at each site with room; returns whether any was born.
   bool birth_at_sites() {
     bool any = false;
-    const double clearance = o_.birth_clearance * 2 * radius_;
+    const double clearance = o_.birth_clearance * rest_distance();
     for (const BirthSite& site : sites_) {
       if (phase_ == "pass 2" && engine_->size() >= result_.max_parts) break;
       if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, clearance)) continue;
