@@ -31,7 +31,7 @@ struct FillArgs {
   std::string report;
   std::string preview;
   std::string frames;
-  uint64_t frame_every = 100;
+  uint64_t frame_every = 500;
   std::string birth;
   std::string exponents = "12,6";
   std::string stop = "blocked";
@@ -248,7 +248,7 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--birth-clearance", o.birth_clearance,
                   "A site has room when no centre is within this many rest distances")
       ->capture_default_str();
-  cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed");
+  cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed (default 0.3,0.6)");
   cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
       ->capture_default_str();
   cmd->add_option("--birth", a->birth, "First birth site X,Y,Z (must be inside; default the deepest point)");
