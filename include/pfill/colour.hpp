@@ -25,6 +25,7 @@
 
 #include "pfill/boundary.hpp"
 #include "pfill/mesh.hpp"
+#include "pfill/srgb.hpp"
 #include "pfill/particles.hpp"
 #include "pfill/vec3.hpp"
 
@@ -77,9 +78,7 @@ std::string colour_particles(const Boundary& boundary, ParticleSet& particles, c
 
 // ---- The pieces, public for tests and for other colouring code ----
 
-/// IEC 61966-2-1 transfer functions on [0, 1] (inputs clamped).
-float srgb_to_linear(float encoded);
-float linear_to_srgb(float linear);
+// srgb_to_linear and linear_to_srgb: include/pfill/srgb.hpp.
 /// Encodes the linear RGB of `linear` (alpha ignored) to 8-bit sRGB, rounded.
 Rgb8 encode_srgb8(const Rgba& linear);
 

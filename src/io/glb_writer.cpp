@@ -12,18 +12,13 @@
 #include "pfill/error.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/shapes.hpp"
+#include "pfill/srgb.hpp"
 
 namespace pfill {
 namespace {
 
 constexpr int kArrayBuffer = 34962;         // bufferView target: vertex data
 constexpr int kElementArrayBuffer = 34963;  // bufferView target: indices
-
-// glTF colours are linear; particle colours are sRGB-encoded.
-float srgb_to_linear(uint8_t c) {
-  const double s = c / 255.0;
-  return static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
-}
 
 // Builds the single buffer and its views/accessors.
 class GltfBuilder {
@@ -173,7 +168,7 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
     positions.insert(positions.end(), {float(p.x), float(p.y), float(p.z)});
   radii.assign(particles.radii.begin(), particles.radii.end());
   for (const Rgb8& c : particles.colours)
-    colours.insert(colours.end(), {srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2])});
+    colours.insert(colours.end(), {srgb8_to_linear(c[0]), srgb8_to_linear(c[1]), srgb8_to_linear(c[2])});
 
   // An empty set still gives a valid file: a scene with no nodes.
   if (!particles.empty()) {

@@ -10,6 +10,7 @@
 #include "mesh/load_support.hpp"
 #include "pfill/error.hpp"
 #include "pfill/mesh_io.hpp"
+#include "pfill/srgb.hpp"
 
 namespace pfill {
 namespace {
@@ -349,9 +350,9 @@ class GltfReader {
     if (c.count < vertex_count) fail(where + " COLOR_0 has fewer elements than POSITION");
     any_colour_ = true;
     for_each_corner(local, flip, [&](uint32_t v) {
-      mesh_.corner_colours.push_back({detail::linear_to_srgb(static_cast<float>(c.value(v, 0))),
-                                      detail::linear_to_srgb(static_cast<float>(c.value(v, 1))),
-                                      detail::linear_to_srgb(static_cast<float>(c.value(v, 2))),
+      mesh_.corner_colours.push_back({linear_to_srgb(static_cast<float>(c.value(v, 0))),
+                                      linear_to_srgb(static_cast<float>(c.value(v, 1))),
+                                      linear_to_srgb(static_cast<float>(c.value(v, 2))),
                                       c.components == 4 ? static_cast<float>(c.value(v, 3)) : 1.0f});
     });
   }

@@ -50,9 +50,4 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-float linear_to_srgb(float linear) {
-  const float c = std::clamp(linear, 0.0f, 1.0f);
-  return c <= 0.0031308f ? 12.92f * c : 1.055f * std::pow(c, 1.0f / 2.4f) - 0.055f;
-}
-
 }  // namespace pfill::detail

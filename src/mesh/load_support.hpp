@@ -31,7 +31,4 @@ Texture decode_image_file(const std::string& path);
 /// well formed and its body matches the header exactly (load_ply_check.cpp).
 void check_ply_structure(const std::string& path);
 
-/// Encodes a linear colour component as sRGB (IEC 61966-2-1), clamped to [0, 1].
-float linear_to_srgb(float linear);
-
 }  // namespace pfill::detail

@@ -15,6 +15,7 @@
 
 #include "pfill/error.hpp"
 #include "pfill/render.hpp"
+#include "pfill/srgb.hpp"
 #include "render/embree_scene.hpp"
 
 namespace pfill {
@@ -30,12 +31,7 @@ struct Rgb {
   Rgb operator*(float s) const { return {r * s, g * s, b * s}; }
 };
 
-float srgb_to_linear(uint8_t c) {
-  const double s = c / 255.0;
-  return static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
-}
-
-Rgb linear(const Rgb8& c) { return {srgb_to_linear(c[0]), srgb_to_linear(c[1]), srgb_to_linear(c[2])}; }
+Rgb linear(const Rgb8& c) { return {srgb8_to_linear(c[0]), srgb8_to_linear(c[1]), srgb8_to_linear(c[2])}; }
 
 uint8_t encode_srgb(float v) {
   v = std::clamp(v, 0.0f, 1.0f);
@@ -212,7 +208,7 @@ Image render(const ParticleSet& particles, const Mesh* shell, const RenderOption
   const bool coloured = particles.has_colours();
   if (!coloured) s.sphere_colours.push_back(linear(options.particle_colour));
   std::array<float, 256> to_linear;
-  for (int i = 0; i < 256; ++i) to_linear[i] = srgb_to_linear(static_cast<uint8_t>(i));
+  for (int i = 0; i < 256; ++i) to_linear[i] = srgb8_to_linear(static_cast<uint8_t>(i));
   for (size_t i = 0; i < particles.size(); ++i) {
     const Vec3& p = particles.positions[i];
     if (cut_away(s, p)) continue;
