@@ -445,15 +445,7 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
   const float v010 = pf_field_at(f, i, j + 1, k), v110 = pf_field_at(f, i + 1, j + 1, k);
   const float v001 = pf_field_at(f, i, j, k + 1), v101 = pf_field_at(f, i + 1, j, k + 1);
   const float v011 = pf_field_at(f, i, j + 1, k + 1), v111 = pf_field_at(f, i + 1, j + 1, k + 1);
-  const float a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
-  const float a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
-  const float b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
-  const float dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
-  const float dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
-  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
-  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
-  g[2] = (b1 - b0) * inv_spacing;
-  return b0 + (b1 - b0) * tz;
+  return pf_trilinear(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, inv_spacing, g);
 }
 #else
 #define PF_FIELD_ARG __global const float*

@@ -72,6 +72,24 @@ PF_FN PF_REAL pf_wall_velocity_change(PF_REAL un, PF_REAL wall_restitution) {
   return un > (PF_REAL)0 ? -((PF_REAL)1 + wall_restitution) * un : (PF_REAL)0;
 }
 
+/* Trilinear interpolation of one grid cell's corner values vIJK (I, J, K
+ * the offsets along x, y, z) at fractions (tx, ty, tz), and in g[0..2] the
+ * exact gradient of the interpolant. Shared by every way of reading the
+ * corners (buffer, image), so all give the same value and gradient. */
+PF_FN PF_REAL pf_trilinear(PF_REAL v000, PF_REAL v100, PF_REAL v010, PF_REAL v110, PF_REAL v001, PF_REAL v101,
+                           PF_REAL v011, PF_REAL v111, PF_REAL tx, PF_REAL ty, PF_REAL tz, PF_REAL inv_spacing,
+                           PF_REAL* g) {
+  const PF_REAL a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
+  const PF_REAL a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
+  const PF_REAL b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
+  const PF_REAL dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
+  const PF_REAL dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
+  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
+  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
+  g[2] = (b1 - b0) * inv_spacing;
+  return b0 + (b1 - b0) * tz;
+}
+
 /* Trilinear sample of the signed distance grid (values[i + nx (j + ny k)] at
  * origin + spacing (i, j, k); negative inside) at point p, and in g[0..2] the
  * exact gradient of the trilinear interpolant. Points outside the grid take
@@ -88,13 +106,5 @@ PF_FN PF_REAL pf_sdf_sample(PF_GLOBAL const float* values, int nx, int ny, int n
   const PF_REAL v010 = values[base + sy], v110 = values[base + sy + 1];
   const PF_REAL v001 = values[base + sz], v101 = values[base + sz + 1];
   const PF_REAL v011 = values[base + sy + sz], v111 = values[base + sy + sz + 1];
-  const PF_REAL a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
-  const PF_REAL a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
-  const PF_REAL b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
-  const PF_REAL dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
-  const PF_REAL dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
-  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
-  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
-  g[2] = (b1 - b0) * inv_spacing;
-  return b0 + (b1 - b0) * tz;
+  return pf_trilinear(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, inv_spacing, g);
 }
