@@ -1,6 +1,7 @@
 // Shared by the engine and physics tests: analytic signed distance grids
 // (sphere, box) and random particle systems with fixed seeds.
 #pragma once
+#include "pfill/device/device.hpp"
 #include <algorithm>
 #include <cmath>
 #include <random>
@@ -72,6 +73,13 @@ inline Vec3 total_momentum(const std::vector<Particle>& ps) {
   Vec3 m;
   for (const Particle& p : ps) m += p.mass * p.velocity;
   return m;
+}
+
+/// One device for all the tests of an executable (PFILL_DEVICE picks it):
+/// opening a device and building kernels once keeps the suite fast.
+inline Device& shared_device() {
+  static Device device;
+  return device;
 }
 
 }  // namespace pfill::test

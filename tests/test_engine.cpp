@@ -16,11 +16,6 @@ using namespace pfill::test;
 
 namespace {
 
-Device& shared_device() {
-  static Device device;  // one context for the whole executable: program builds are the slow part
-  return device;
-}
-
 // Largest position and velocity differences between the engine and the reference.
 std::pair<double, double> max_difference(const std::vector<Particle>& a, const std::vector<Particle>& b) {
   REQUIRE(a.size() == b.size());

@@ -15,11 +15,6 @@ using namespace pfill::test;
 
 namespace {
 
-Device& shared_device() {
-  static Device device;
-  return device;
-}
-
 bool has_images(Device& d) { return d.device().getInfo<CL_DEVICE_IMAGE_SUPPORT>() != CL_FALSE; }
 
 EngineParams wall_params(double cutoff_sigma, bool image) {

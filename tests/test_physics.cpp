@@ -16,11 +16,6 @@ using namespace pfill::test;
 
 namespace {
 
-Device& shared_device() {
-  static Device device;
-  return device;
-}
-
 double kinetic_energy(const std::vector<Particle>& ps) {
   double e = 0;
   for (const Particle& p : ps) e += 0.5 * p.mass * dot(p.velocity, p.velocity);
