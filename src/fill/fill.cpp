@@ -387,7 +387,8 @@ class FillRun {
   // ---- the machinery shared by the passes ----
 
   /// Runs `sync_every` steps (with birth attempts when `births`), then reads
-  /// the history and a snapshot, removes flagged particles, reports progress.
+  /// the history (and, while births may follow or a frame is due, a snapshot of the
+  /// positions), removes flagged particles, reports progress.
   /// Returns, per step of the batch, whether a particle was born before it.
   std::vector<bool> run_batch(bool births) {
     std::vector<bool> born(static_cast<size_t>(o_.sync_every), false);
@@ -405,13 +406,18 @@ class FillRun {
       result_.lost_outside += out.size();
       engine_->remove_particles(out);
     }
-    const std::vector<Particle> ps = engine_->read_particles();
-    snapshot_.clear();
-    for (const Particle& p : ps) snapshot_.push_back(p.position);
-    newborns_.clear();
-    if (o_.on_frame && o_.frame_every && engine_->steps_done() / o_.frame_every != last_frame_) {
-      last_frame_ = engine_->steps_done() / o_.frame_every;
-      o_.on_frame(engine_->steps_done(), to_particle_set(ps));
+    // Positions come back only for what needs them: the birth-room test and frames.
+    const bool frame_due = o_.on_frame && o_.frame_every && engine_->steps_done() / o_.frame_every != last_frame_;
+    const bool births_ahead = phase_ == "pass 1" || phase_ == "pass 2";  // a hold may end next batch
+    if (births_ahead || frame_due) {
+      const std::vector<Particle> ps = engine_->read_particles();
+      snapshot_.clear();
+      for (const Particle& p : ps) snapshot_.push_back(p.position);
+      newborns_.clear();
+      if (frame_due) {
+        last_frame_ = engine_->steps_done() / o_.frame_every;
+        o_.on_frame(engine_->steps_done(), to_particle_set(ps));
+      }
     }
     if (!history_.empty())
       report_particles(engine_->size(), history_.back().kinetic_energy, history_.back().colliding_pairs);
