@@ -9,9 +9,13 @@
 // at fast speeds, as a fill's pass 1 does. Text on stdout, JSON with
 // --json FILE. With --field-image every case runs twice, the wall field
 // as a buffer (the default) and as a 3D image (EngineParams::field_image),
-// printed one line after the other.
+// printed one line after the other. The lattice is renumbered along the
+// cells first (Engine::sort_by_cells, as a large system should be; --no-sort
+// keeps the lattice's row order). Each line also gives the share of steps
+// that rebuilt the neighbour lists and the update's time on those and on
+// the others. --work-group and --pair-lanes set EngineParams' values.
 //
-//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--json FILE]
+//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--pair-lanes L] [--no-sort] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -20,6 +24,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <random>
 #include <string>
 #include <vector>
@@ -37,6 +42,9 @@ namespace {
 
 constexpr double kRadius = 0.5;
 constexpr double kPacking = 0.6;
+size_t work_group = EngineParams{}.work_group;  // --work-group
+int pair_lanes = 0;                              // --pair-lanes (0: by device)
+bool sort_cells = true;                          // Engine::sort_by_cells after the bulk addition (--no-sort: off)
 
 // The SDF of the box [-h, h]^3 sampled at `spacing`.
 ScalarGrid box_field(double h, double spacing) {
@@ -108,6 +116,8 @@ double median(std::vector<double> v) {
 nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool quick, bool field_image) {
   EngineParams p;
   p.field_image = field_image;
+  p.work_group = work_group;
+  p.pair_lanes = pair_lanes;
   p.radius = kRadius;
   p.cutoff_sigma = c.cutoff_sigma;
   p.restitution = 0.5;
@@ -128,6 +138,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   Engine engine(device, p);
   engine.set_field(field);
   engine.add_particles(ps);
+  if (sort_cells) engine.sort_by_cells();
   engine.run_steps(10);  // warm-up: kernels compiled for this size, caches filled
   engine.read_history();
 
@@ -141,9 +152,11 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   if (c.small) steps = (steps + 49) / 50 * 50;
   std::vector<double> rates, cpu_per_step;
   uint32_t overflow = 0, flagged = 0;
+  uint64_t timed_steps = 0, timed_rebuilds = 0;  // over the timed trials
   double ke = 0;
   for (int trial = 0; trial < (quick ? 3 : 5); ++trial) {
-    engine.read_history();
+    for (const auto& r : engine.read_history()) timed_rebuilds += trial > 0 && r.lists_rebuilt;
+    timed_steps += steps;
     const auto start = Clock::now();
     const double cpu_start = process_cpu_seconds();
     if (c.small) {
@@ -158,6 +171,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
           engine.run_steps(50);
         }
         for (const auto& r : engine.read_history()) {  // what the stopping tests read
+          timed_rebuilds += r.lists_rebuilt;
           overflow += r.cell_overflow;
           flagged += r.flagged;
           ke = r.kinetic_energy;
@@ -172,6 +186,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
     cpu_per_step.push_back((process_cpu_seconds() - cpu_start) / steps);
   }
   for (const auto& r : engine.read_history()) {
+    timed_rebuilds += r.lists_rebuilt;
     overflow += r.cell_overflow;
     flagged += r.flagged;
     ke = r.kinetic_energy;
@@ -182,16 +197,35 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   Engine prof(profiled, p);
   prof.set_field(field);
   prof.add_particles(ps);
+  if (sort_cells) prof.sort_by_cells();
   prof.run_steps(10);
   prof.kernel_times();
+  prof.read_history();
+  // Step by step, so that each step's update time pairs with whether it
+  // rebuilt the neighbour lists (the costly part on a rebuild step).
   const size_t prof_steps = std::min<size_t>(steps, 200);
-  prof.run_steps(prof_steps);
+  std::map<std::string, double> totals;
+  double update_rebuild = 0, update_other = 0;
+  size_t rebuilds = 0;
+  for (size_t s = 0; s < prof_steps; ++s) {
+    prof.run_steps(1);
+    const auto times = prof.kernel_times();
+    for (const auto& [name, seconds] : times) totals[name] += seconds;
+    const double update = times.count("advance") ? times.at("advance") : 0.0;
+    if (prof.read_history().back().lists_rebuilt) {
+      ++rebuilds;
+      update_rebuild += update;
+    } else {
+      update_other += update;
+    }
+  }
   nlohmann::json kernels = nlohmann::json::object();
-  for (const auto& [name, seconds] : prof.kernel_times()) kernels[name] = seconds / prof_steps * 1e6;
+  for (const auto& [name, seconds] : totals) kernels[name] = seconds / prof_steps * 1e6;
 
   nlohmann::json j;
   j["n"] = c.n;
   j["cutoff"] = c.cutoff_sigma > 0 ? "2.5 sigma" : "repulsive";
+  j["sorted_by_cells"] = sort_cells;
   j["mode"] = c.births ? "steps/s, history read every 50 steps, one birth and one removal a step (N-1 particles)"
                        : c.small ? "steps/s, history read every 50 steps" : "particle-steps/s, no reads";
   j["steps_per_trial"] = steps;
@@ -200,6 +234,10 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   j["us_per_step"] = 1e6 / steps_per_s;
   j["cpu_us_per_step"] = 1e6 * median(cpu_per_step);  // all threads together
   j["kernel_us_per_step"] = kernels;
+  j["rebuild_share"] = static_cast<double>(timed_rebuilds) / timed_steps;  // timed run
+  j["rebuild_share_profiled"] = static_cast<double>(rebuilds) / prof_steps;
+  j["advance_us_rebuild_step"] = rebuilds ? update_rebuild / rebuilds * 1e6 : 0.0;
+  j["advance_us_other_step"] = rebuilds < prof_steps ? update_other / (prof_steps - rebuilds) * 1e6 : 0.0;
   j["cell_capacity"] = engine.constants().cell_capacity;
   j["cell_overflow_hits"] = overflow;
   j["flagged"] = flagged;
@@ -218,6 +256,8 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, double skin_sigma, bool field_image) {
   EngineParams p;
   p.field_image = field_image;
+  p.work_group = work_group;
+  p.pair_lanes = pair_lanes;
   p.radius = kRadius;
   p.cutoff_sigma = 0;
   p.restitution = 0.5;
@@ -335,10 +375,13 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--fill")) fill_only = true;
     else if (!std::strcmp(argv[i], "--field-image")) field_image = true;
     else if (!std::strcmp(argv[i], "--skin") && i + 1 < argc) skin = std::strtod(argv[++i], nullptr);
+    else if (!std::strcmp(argv[i], "--work-group") && i + 1 < argc) work_group = std::strtoul(argv[++i], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--pair-lanes") && i + 1 < argc) pair_lanes = std::atoi(argv[++i]);
+    else if (!std::strcmp(argv[i], "--no-sort")) sort_cells = false;
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--pair-lanes L] [--no-sort] [--json FILE]\n");
       return 2;
     }
   }
@@ -380,6 +423,9 @@ int main(int argc, char** argv) {
                   j["particle_steps_per_second"].get<double>(), j["us_per_step"].get<double>(),
                   j["cpu_us_per_step"].get<double>());
       for (const auto& [k, v] : j["kernel_us_per_step"].items()) std::printf(" %s %.1f", k.c_str(), v.get<double>());
+      std::printf("  rebuilt %.0f%% of steps (advance %.1f us then, %.1f otherwise)",
+                  100 * j["rebuild_share"].get<double>(), j["advance_us_rebuild_step"].get<double>(),
+                  j["advance_us_other_step"].get<double>());
       std::printf("%s\n", j["cell_overflow_hits"].get<uint32_t>() ? "  CELL OVERFLOW" : "");
       std::fflush(stdout);
       all["cases"].push_back(j);

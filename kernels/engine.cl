@@ -30,16 +30,23 @@
  * them in place (birth_linked, remove_linked); bulk additions and growth
  * force a rebuild. A step is therefore two launches, the first nearly empty.
  *
- * The pair loop takes 8 list entries at a time as float8 vectors (PoCL
- * turns them into SIMD; GPUs run them as unrolled scalar code).
+ * The pair loop takes 8 list entries at a time as float8 vectors on CPU
+ * devices (PoCL turns them into SIMD) and one at a time on GPUs (see
+ * PF_PAIR_LANES below).
  *
- * Per-step scalars, with no barrier and no launch of their own: step t
- * writes one record per particle (S); during
- * step t+1, work-item k sums chunk k of step t's records into a partial (P);
- * during step t+2, work-item 0 sums those partials into the HISTORY record
- * of step t: 8 words, kinetic energy, max speed, max displacement, 0, then
- * as uints: colliding pairs, flagged particles, cell-overflow hits, particle
- * count. finalize_history finishes the (at most two) steps still in flight.
+ * Per-step scalars (kinetic energy, speeds, counts: one float8 record a
+ * particle, pf_record_merge combines two), reduced without a launch of
+ * their own, in a fixed order (so the same run gives the same sums):
+ * step t sums its work-group's records into level-1 partial g (L1, one a
+ * group); during step t+1, group c sums L1 partials [c PF_WG, (c + 1)
+ * PF_WG) into level-2 partial c (L2); during step t+2, group 0 sums the L2
+ * partials into the HISTORY record of step t: kinetic energy, max speed,
+ * max displacement, lists rebuilt (0/1), then as uints: colliding pairs,
+ * flagged particles, cell-overflow hits, particle count. finalize_history
+ * finishes the (at most two) steps still in flight the same way. Each sum
+ * over a group is a two-level one in local memory (PF_WG_ROOT items sum
+ * PF_WG / PF_WG_ROOT records each, then one item sums theirs): short
+ * serial runs for GPUs, few barriers for CPU devices.
  *
  * Wall clearance: C[i] is a lower bound on how far particle i's sphere is
  * from the wall; it shrinks by 2 |dx| a step (the trilinear field changes
@@ -65,12 +72,31 @@
 #define PF_RL2 1.6f
 #define PF_HALF_SKIN2 0.01f
 #define PF_LIST_CAP 32u
+#define PF_WG 64u
+#define PF_WG_ROOT 8u
+#define PF_LIST_TILE 1u
+#define PF_PAIR_LANES 8
+#define PF_FIX_SCALE 1.0e9f
+#define PF_FIX_MAX 1.0e6f
 #endif
+
+/* The pair loop (EngineParams::pair_lanes) and the list rows' layout go
+ * together. PF_PAIR_LANES 8 (CPU devices): 8 list entries at a time as
+ * float8 vectors, each row contiguous (PF_LIST_TILE 1). PF_PAIR_LANES 1
+ * (GPUs): one entry at a time, and the rows of 32 consecutive particles
+ * interleaved (PF_LIST_TILE 32), so the 32 work-items of a warp reading
+ * their k-th entries read 128 contiguous bytes. PF_ROW(list, i) is particle
+ * i's row, PF_AT(row, k) its entry k; capacities are multiples of 32. */
+#define PF_ROW(list, i) \
+  ((list) + ((size_t)((i) / PF_LIST_TILE) * PF_LIST_CAP * PF_LIST_TILE + (i) % PF_LIST_TILE))
+#define PF_AT(row, k) ((row)[(size_t)(k) * PF_LIST_TILE])
 
 #define PF_COUNT_MASK 0xFFu
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
 #define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
-#define PF_RECORD 8
+/* Bits a step sets for a particle (pf_build_list, the wall). */
+#define PF_FLAGGED_BIT 0x1u
+#define PF_OVERFLOW_BIT 0x2u
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
  * keeps its neighbours: they clamp to the same or an adjacent cell). */
@@ -109,54 +135,51 @@ void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uin
   }
 }
 
-/* Per-particle record: (kinetic energy, speed, displacement, packed
- * counters: pairs in bits 0-15, flagged bit 16, overflow bit 17). */
-#define PF_FLAGGED_BIT 0x10000u
-#define PF_OVERFLOW_BIT 0x20000u
-#define PF_REBUILT_BIT 0x40000u /* set by particle 0 on a step that rebuilt the lists */
-
-/* Sums particle records [first, end) into one partial record at out. */
-void pf_sum_records(__global const float4* S, uint first, uint end, uint n, __global float* out) {
-  float ke = 0.0f, speed = 0.0f, disp = 0.0f;
-  uint pairs = 0u, flagged = 0u, overflow = 0u, rebuilt = 0u;
-  for (uint k = first; k < end; ++k) {
-    const float4 r = S[k];
-    const uint bits = as_uint(r.w);
-    ke += r.x;
-    speed = fmax(speed, r.y);
-    disp = fmax(disp, r.z);
-    pairs += bits & 0xFFFFu;
-    flagged += (bits >> 16) & 1u;
-    overflow += (bits >> 17) & 1u;
-    rebuilt |= (bits >> 18) & 1u;
-  }
-  vstore4((float4)(ke, speed, disp, (float)rebuilt), 0, out);
-  vstore4(as_float4((uint4)(pairs, flagged, overflow, n)), 1, out);
+/* A particle's record: (kinetic energy, speed, displacement, lists
+ * rebuilt, then as uints: colliding pairs, flagged, cell overflow, count). */
+float8 pf_record(float ke, float speed, float disp, uint rebuilt, uint pairs, uint flagged, uint overflow, uint n) {
+  return (float8)(ke, speed, disp, (float)rebuilt, as_float4((uint4)(pairs, flagged, overflow, n)));
 }
 
-/* Sums `groups` partial records into one history record at out. */
-void pf_sum_partials(__global const float* P, uint groups, __global float* out) {
-  float4 f = (float4)(0.0f);
-  uint4 u = (uint4)(0u);
-  for (uint g = 0; g < groups; ++g) {
-    const float4 pf = vload4(0, P + g * PF_RECORD);
-    const uint4 pu = as_uint4(vload4(1, P + g * PF_RECORD));
-    f = (float4)(f.x + pf.x, fmax(f.y, pf.y), fmax(f.z, pf.z), fmax(f.w, pf.w));
-    u = (uint4)(u.x + pu.x, u.y + pu.y, u.z + pu.z, max(u.w, pu.w));
-  }
-  vstore4(f, 0, out);
-  vstore4(as_float4(u), 1, out);
+/* Two records as one: sums, maxima, counts summed, the particle count the larger. */
+float8 pf_record_merge(float8 a, float8 b) {
+  const uint4 ua = as_uint4(a.s4567), ub = as_uint4(b.s4567);
+  return (float8)(a.s0 + b.s0, fmax(a.s1, b.s1), fmax(a.s2, b.s2), fmax(a.s3, b.s3),
+                  as_float4((uint4)(ua.x + ub.x, ua.y + ub.y, ua.z + ub.z, max(ua.w, ub.w))));
 }
 
-/* The reduction work that rides along a step: work-item k < chunk_groups
- * sums chunk k of the previous step's records; work-item 0 turns the
- * partials of the step before into its history record. */
-void pf_reduce_in_flight(uint k, __global const float4* S_prev, uint n_prev, uint chunk, uint chunk_groups,
-                         __global float* P_out, __global const float* P_prev, uint groups_prev2,
-                         __global float* history, uint slot_prev2) {
-  if (k < chunk_groups)
-    pf_sum_records(S_prev, k * chunk, min(n_prev, (k + 1u) * chunk), n_prev, P_out + k * PF_RECORD);
-  if (k == 0 && groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
+/* Partial `first + lid` of `count` (zero past the end). */
+float8 pf_partial_at(__global const float8* src, uint count, uint first, uint lid) {
+  return first + lid < count ? src[first + lid] : (float8)(0.0f);
+}
+
+/* Item lid's share of all `count` partials: lid, lid + PF_WG, ... in order. */
+float8 pf_partials_strided(__global const float8* src, uint count, uint lid) {
+  float8 s = (float8)(0.0f);
+  for (uint k = lid; k < count; k += PF_WG) s = pf_record_merge(s, src[k]);
+  return s;
+}
+
+/* Up to three group sums at once (one record a work-item in each of
+ * part[0..2], stored by the caller before a barrier): item w < 3 returns
+ * sum w, in a fixed order, where bit w of `need` (the same in the whole
+ * group) is set. Every item of the group must call it. */
+float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint need) {
+  const uint per = PF_WG / PF_WG_ROOT;
+  if (lid < 3u * PF_WG_ROOT && ((need >> (lid / PF_WG_ROOT)) & 1u)) {
+    __local const float8* run = part + (lid / PF_WG_ROOT) * PF_WG + (lid % PF_WG_ROOT) * per;
+    float8 s = run[0];
+    for (uint k = 1; k < per; ++k) s = pf_record_merge(s, run[k]);
+    mid[lid] = s;
+  }
+  barrier(CLK_LOCAL_MEM_FENCE);
+  float8 total = (float8)(0.0f);
+  if (lid < 3u && ((need >> lid) & 1u)) {
+    __local const float8* run = mid + lid * PF_WG_ROOT;
+    total = run[0];
+    for (uint k = 1; k < PF_WG_ROOT; ++k) total = pf_record_merge(total, run[k]);
+  }
+  return total;
 }
 
 /* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
@@ -234,9 +257,9 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
   const uint mine = list_count[i];
   const uint slot = atomic_inc(&list_count[n]);
   if (mine < PF_LIST_CAP && slot < PF_LIST_CAP) {
-    list[(size_t)i * PF_LIST_CAP + mine] = n;
+    PF_AT(PF_ROW(list, i), mine) = n;
     list_count[i] = mine + 1u;
-    list[(size_t)n * PF_LIST_CAP + slot] = i;
+    PF_AT(PF_ROW(list, n), slot) = i;
   } else {
     atomic_or(&request[request_next], 1u);
   }
@@ -253,27 +276,27 @@ __kernel void remove_linked(__global float4* X, __global float4* V, __global uin
   const uint i = get_global_id(0);
   const uint last = n - 1u;
   if (i >= last) return;
-  __global uint* row = list + (size_t)i * PF_LIST_CAP;
+  __global uint* row = PF_ROW(list, i);
   if (i == gone) {
     X[i] = X[last];
     V[i] = V[last];
     flags[i] = flags[last];
     C[i] = C[last];
     XREF[i] = XREF[last];
-    __global const uint* from = list + (size_t)last * PF_LIST_CAP;
+    __global const uint* from = PF_ROW(list, last);
     const uint count = min(list_count[last], PF_LIST_CAP);
     uint kept = 0u;
     for (uint k = 0; k < count; ++k)
-      if (from[k] != gone) row[kept++] = from[k];
+      if (PF_AT(from, k) != gone) PF_AT(row, kept++) = PF_AT(from, k);
     list_count[i] = kept;
     return;
   }
   uint count = min(list_count[i], PF_LIST_CAP);
   for (uint k = 0; k < count;) {
-    if (row[k] == gone) {
-      row[k] = row[--count];
+    if (PF_AT(row, k) == gone) {
+      PF_AT(row, k) = PF_AT(row, --count);
     } else {
-      if (row[k] == last) row[k] = gone;
+      if (PF_AT(row, k) == last) PF_AT(row, k) = gone;
       ++k;
     }
   }
@@ -290,14 +313,31 @@ __kernel void move_particle(__global float4* X, __global float4* V, __global uin
   C[to] = C[from];
 }
 
-/* Finishes the steps in flight (one work-item): the record of the last
- * step (S_prev, if n_prev_valid) and the partials of the one before. */
-__kernel void finalize_history(__global const float4* S_prev, const uint n_prev, const uint have_prev,
-                               __global float* history, const uint slot_prev, __global const float* P_prev,
-                               const uint groups_prev2, const uint slot_prev2) {
-  if (get_global_id(0) != 0) return;
-  if (groups_prev2 > 0u) pf_sum_partials(P_prev, groups_prev2, history + slot_prev2 * PF_RECORD);
-  if (have_prev) pf_sum_records(S_prev, 0u, n_prev, n_prev, history + slot_prev * PF_RECORD);
+/* Finishes the steps in flight (one work-group), by the same sums the
+ * steps would have done: the last step's level-1 partials (L1_last, g1 of
+ * them; 0: none) into level 2 (L2_scratch), then into its history record;
+ * and the step before's level-2 partials (L2_prev, g2_prev; 0: none) into
+ * its record. */
+__kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_history(
+    __global const float8* L1_last, const uint g1, __global float8* L2_scratch, __global const float8* L2_prev,
+    const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev) {
+  __local float8 part[3u * PF_WG];
+  __local float8 mid[3u * PF_WG_ROOT];
+  const uint lid = get_local_id(0);
+  const uint g2 = (g1 + PF_WG - 1u) / PF_WG;
+  for (uint c = 0; c < g2; ++c) {
+    part[PF_WG + lid] = pf_partial_at(L1_last, g1, c * PF_WG, lid);
+    barrier(CLK_LOCAL_MEM_FENCE);
+    const float8 s = pf_group_sums(part, mid, lid, 2u);
+    if (lid == 1u) L2_scratch[c] = s;
+    barrier(CLK_LOCAL_MEM_FENCE | CLK_GLOBAL_MEM_FENCE);
+  }
+  part[PF_WG + lid] = g2 > 0u ? pf_partials_strided(L2_scratch, g2, lid) : (float8)(0.0f);
+  part[2u * PF_WG + lid] = g2_prev > 0u ? pf_partials_strided(L2_prev, g2_prev, lid) : (float8)(0.0f);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const float8 s = pf_group_sums(part, mid, lid, 6u);
+  if (lid == 1u && g2 > 0u) history[slot_last] = s;
+  if (lid == 2u && g2_prev > 0u) history[slot_prev] = s;
 }
 
 /* For tests: the indices of each particle's neighbours (pairs the step
@@ -336,10 +376,10 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
 /* Sorts a list row (or a piece of one) by index (see pf_build_list). */
 void pf_sort_row(__global uint* row, uint count) {
   for (uint k = 1; k < count; ++k) {
-    const uint v = row[k];
+    const uint v = PF_AT(row, k);
     uint m = k;
-    for (; m > 0 && row[m - 1] > v; --m) row[m] = row[m - 1];
-    row[m] = v;
+    for (; m > 0 && PF_AT(row, m - 1) > v; --m) PF_AT(row, m) = PF_AT(row, m - 1);
+    PF_AT(row, m) = v;
   }
 }
 
@@ -363,6 +403,58 @@ uint8 pf_sort8(uint8 v) {
   return v;
 }
 
+/* Whether the cell at offset (ox, oy, oz) from particle i's own cell may
+ * hold a particle within PF_RL of it: `frac` is i's position within its
+ * cell (0..1 a side, in cell units), cell_inv the inverse cell edge. A cell
+ * whose nearest point is farther (a corner or edge cell when i sits near
+ * the opposite faces) is skipped: about a quarter of the 27. */
+bool pf_cell_in_reach(float4 frac, int ox, int oy, int oz, float cell_inv) {
+  const float gx = ox < 0 ? frac.x : ox > 0 ? 1.0f - frac.x : 0.0f;
+  const float gy = oy < 0 ? frac.y : oy > 0 ? 1.0f - frac.y : 0.0f;
+  const float gz = oz < 0 ? frac.z : oz > 0 ? 1.0f - frac.z : 0.0f;
+  const float gap2 = fmax(gx, 0.0f) * fmax(gx, 0.0f) + fmax(gy, 0.0f) * fmax(gy, 0.0f) + fmax(gz, 0.0f) * fmax(gz, 0.0f);
+  return gap2 < 1.0001f * PF_RL2 * cell_inv * cell_inv;
+}
+
+#if PF_PAIR_LANES == 1
+/* Rebuilds particle i's neighbour list from the cells: indices j != i
+ * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
+ * more set the overflow bit in *bits). One candidate at a time, in the
+ * order the cells hold them, which varies run to run (atomic insertions):
+ * this pair loop sums forces in fixed point, where order does not matter. */
+uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
+                   int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
+  uint found = 0u;
+  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
+  for (int cz = lo.z; cz <= hi.z; ++cz)
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+        const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
+        uint m = pf_cell_count(counts, cell, stamp);
+        if (m > PF_CELL_CAP) {
+          *bits |= PF_OVERFLOW_BIT;
+          m = PF_CELL_CAP;
+        }
+        __global const float* block = slots + cell * PF_BLOCK;
+#pragma unroll 4
+        for (uint k = 0; k < m; ++k) {
+          const float dx = xi.x - block[PF_SLOT(k, 0u)], dy = xi.y - block[PF_SLOT(k, 1u)];
+          const float dz = xi.z - block[PF_SLOT(k, 2u)];
+          const uint j = as_uint(block[PF_SLOT(k, 4u)]);
+          if (j != i && dx * dx + dy * dy + dz * dz < PF_RL2) {
+            if (found < PF_LIST_CAP) PF_AT(row, found) = j;
+            ++found;
+          }
+        }
+      }
+  if (found > PF_LIST_CAP) {
+    *bits |= PF_OVERFLOW_BIT;
+    found = PF_LIST_CAP;
+  }
+  return found;
+}
+#else
 /* Rebuilds particle i's neighbour list from the cells: indices j != i
  * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
  * more set the overflow bit in *bits).
@@ -375,12 +467,13 @@ uint8 pf_sort8(uint8 v) {
  * lanes that are not neighbours become UINT_MAX and sort last) and stored
  * as one vector; a cell of more than 8 is sorted as a whole afterwards. */
 uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
-                   int4 c, int4 cell_dims, __global uint* row, uint* bits) {
+                   int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
+        if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
         uint m = pf_cell_count(counts, cell, stamp);
         if (m > PF_CELL_CAP) {
@@ -400,16 +493,16 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
           if (hits == 0u) continue;
           const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj, near));
-          if (found + 8u <= PF_LIST_CAP) {
+          if (PF_LIST_TILE == 1u && found + 8u <= PF_LIST_CAP) {
             vstore8(sorted, 0, row + found);
           } else {
             uint js[8];
             vstore8(sorted, 0, js);
-            for (uint l = 0; l < hits && found + l < PF_LIST_CAP; ++l) row[found + l] = js[l];
+            for (uint l = 0; l < hits && found + l < PF_LIST_CAP; ++l) PF_AT(row, found + l) = js[l];
           }
           found += hits;
         }
-        if (m > 8u && found > cell_first) pf_sort_row(row + cell_first, min(found, PF_LIST_CAP) - min(cell_first, PF_LIST_CAP));
+        if (m > 8u && found > cell_first) pf_sort_row(&PF_AT(row, cell_first), min(found, PF_LIST_CAP) - min(cell_first, PF_LIST_CAP));
       }
   if (found > PF_LIST_CAP) {
     *bits |= PF_OVERFLOW_BIT;
@@ -417,6 +510,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   }
   return found;
 }
+#endif
 
 /* The wall's field: a global float buffer sampled by physics.cl
  * pf_sdf_sample (the default), or with PF_FIELD_IMAGE a CL_R / CL_FLOAT
@@ -453,138 +547,209 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 #endif
 
 /* The whole update of one particle (see the top of the file), plus the
- * reduction work in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
- * (nx, ny, nz, has_walls). Launched over max(n, chunk_groups, 1) items. */
-__kernel void advance(__global const float4* X, __global const float4* V, __global float4* X_out,
-                      __global float4* V_out, __global const uint* counts, __global const float* slots,
-                      const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
-                      PF_FIELD_ARG sdf, const float4 sdf_origin, const int4 sdf_dims,
-                      __global uint* flags, __global float* C, const uint n, __global float4* S_out,
-                      __global const float4* S_prev, const uint n_prev, const uint chunk, const uint chunk_groups,
-                      __global float* P_out, __global const float* P_prev, const uint groups_prev2,
-                      __global float* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
-                      __global float4* XREF, __global uint* request, const uint request_read,
-                      const uint request_raise, const uint request_clear, const uint force_rebuild,
-                      const int4 sort_rows) {
-  const uint i = get_global_id(0);
-  pf_reduce_in_flight(i, S_prev, n_prev, chunk, chunk_groups, P_out, P_prev, groups_prev2, history, slot_prev2);
+ * reductions in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
+ * (nx, ny, nz, has_walls). Groups: at least max(ceil(n / PF_WG), g2 of
+ * the last step, 1). L1_out / L2_out: this step's level-1 partials and the
+ * last step's level-2 ones; L1_prev: the last step's level-1 partials
+ * (g1_prev; 0: none); L2_prev: the level-2 partials of the step before
+ * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. */
+__kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
+    __global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
+    __global const uint* counts, __global const float* slots, const uint stamp, const float4 cell_origin,
+    const float4 cell_inv, const int4 cell_dims, PF_FIELD_ARG sdf, const float4 sdf_origin, const int4 sdf_dims,
+    __global uint* flags, __global float* C, const uint n, __global float8* L1_out, __global const float8* L1_prev,
+    const uint g1_prev, __global float8* L2_out, __global const float8* L2_prev, const uint g2_prev2,
+    __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
+    __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
+    const uint request_clear, const uint force_rebuild, const int4 sort_rows) {
+  __local float8 part[3u * PF_WG];
+  __local float8 mid[3u * PF_WG_ROOT];
+  const uint i = get_global_id(0), lid = get_local_id(0), group = get_group_id(0);
   if (i == 0) request[request_clear] = 0u;
-  if (i >= n) return;
-  const float4 xi = X[i];
-  const float4 vi = V[i];
-  const float ri = xi.w, inv_mi = vi.w;
-  uint bits = 0u;
-  __global uint* row = list + (size_t)i * PF_LIST_CAP;
-  uint count;
-  if (force_rebuild || request[request_read]) {
-    count = pf_build_list(i, xi, counts, slots, stamp, pf_cell_of(xi, cell_origin, cell_inv, cell_dims), cell_dims,
-                          row, &bits);
-    list_count[i] = count;
-    XREF[i] = xi;
-    if (i == 0) bits |= PF_REBUILT_BIT;
-  } else {
-    count = min(list_count[i], PF_LIST_CAP);
-    /* newcomers' lists were filled by atomics (birth_linked): sort them once */
-    if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
-  }
-  float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
-  int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
-  for (uint k = 0; k < count; k += 8u) {
-    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-    const int8 valid = lane < (int8)((int)count);
-    const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
-    const float4 p0 = X[jj.s0], p1 = X[jj.s1], p2 = X[jj.s2], p3 = X[jj.s3];
-    const float4 p4 = X[jj.s4], p5 = X[jj.s5], p6 = X[jj.s6], p7 = X[jj.s7];
-    float8 dx = xi.x - (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
-    float8 dy = xi.y - (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
-    float8 dz = xi.z - (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
-    const float8 rs = ri + (float8)(p0.w, p1.w, p2.w, p3.w, p4.w, p5.w, p6.w, p7.w);
-    float8 d2 = dx * dx + dy * dy + dz * dz;
-    const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
-    const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
-    if (!any(near)) continue;
-    d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
-    const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
-    if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
-      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
-      dy = select(dy, (float8)(0.0f), tiny);
-      dz = select(dz, (float8)(0.0f), tiny);
-      d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+  float8 record = (float8)(0.0f);
+  if (i < n) {
+    const float4 xi = X[i];
+    const float4 vi = V[i];
+    const float ri = xi.w, inv_mi = vi.w;
+    uint bits = 0u, rebuilt = 0u;
+    __global uint* row = PF_ROW(list, i);
+    uint count;
+    if (force_rebuild || request[request_read]) {
+      const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
+      const float4 frac = (xi - cell_origin) * cell_inv - convert_float4(c);
+      count = pf_build_list(i, xi, counts, slots, stamp, c, frac, cell_inv.x, cell_dims, row, &bits);
+      list_count[i] = count;
+      XREF[i] = xi;
+      rebuilt = i == 0u;
+    } else {
+      count = min(list_count[i], PF_LIST_CAP);
+      /* newcomers' lists were filled by atomics (birth_linked): sort them once */
+#if PF_PAIR_LANES == 8
+      if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
+#endif
     }
-    const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
-    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
-    fx += kf * dx;
-    fy += kf * dy;
-    fz += kf * dz;
-    const int8 contact = near & (d2 < touch2);
-    if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
-      const float4 q0 = V[jj.s0], q1 = V[jj.s1], q2 = V[jj.s2], q3 = V[jj.s3];
-      const float4 q4 = V[jj.s4], q5 = V[jj.s5], q6 = V[jj.s6], q7 = V[jj.s7];
-      const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-      const float8 un = (vi.x - (float8)(q0.x, q1.x, q2.x, q3.x, q4.x, q5.x, q6.x, q7.x)) * nx +
-                        (vi.y - (float8)(q0.y, q1.y, q2.y, q3.y, q4.y, q5.y, q6.y, q7.y)) * ny +
-                        (vi.z - (float8)(q0.z, q1.z, q2.z, q3.z, q4.z, q5.z, q6.z, q7.z)) * nz;
-      const float8 imj = (float8)(q0.w, q1.w, q2.w, q3.w, q4.w, q5.w, q6.w, q7.w);
-      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
-      fx += cf * nx;
-      fy += cf * ny;
-      fz += cf * nz;
-      overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
+#if PF_PAIR_LANES == 8
+    float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
+    int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
+    for (uint k = 0; k < count; k += 8u) {
+      const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+      const int8 valid = lane < (int8)((int)count);
+      const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
+      const float4 p0 = X[jj.s0], p1 = X[jj.s1], p2 = X[jj.s2], p3 = X[jj.s3];
+      const float4 p4 = X[jj.s4], p5 = X[jj.s5], p6 = X[jj.s6], p7 = X[jj.s7];
+      float8 dx = xi.x - (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
+      float8 dy = xi.y - (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
+      float8 dz = xi.z - (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
+      const float8 rs = ri + (float8)(p0.w, p1.w, p2.w, p3.w, p4.w, p5.w, p6.w, p7.w);
+      float8 d2 = dx * dx + dy * dy + dz * dz;
+      const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
+      const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
+      if (!any(near)) continue;
+      d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
+      const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
+      if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
+        dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
+        dy = select(dy, (float8)(0.0f), tiny);
+        dz = select(dz, (float8)(0.0f), tiny);
+        d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+      }
+      const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
+      const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
+      fx += kf * dx;
+      fy += kf * dy;
+      fz += kf * dz;
+      const int8 contact = near & (d2 < touch2);
+      if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+        const float4 q0 = V[jj.s0], q1 = V[jj.s1], q2 = V[jj.s2], q3 = V[jj.s3];
+        const float4 q4 = V[jj.s4], q5 = V[jj.s5], q6 = V[jj.s6], q7 = V[jj.s7];
+        const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+        const float8 un = (vi.x - (float8)(q0.x, q1.x, q2.x, q3.x, q4.x, q5.x, q6.x, q7.x)) * nx +
+                          (vi.y - (float8)(q0.y, q1.y, q2.y, q3.y, q4.y, q5.y, q6.y, q7.y)) * ny +
+                          (vi.z - (float8)(q0.z, q1.z, q2.z, q3.z, q4.z, q5.z, q6.z, q7.z)) * nz;
+        const float8 imj = (float8)(q0.w, q1.w, q2.w, q3.w, q4.w, q5.w, q6.w, q7.w);
+        const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
+        fx += cf * nx;
+        fy += cf * ny;
+        fz += cf * nz;
+        overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
+      }
     }
-  }
-  const uint pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 +
-                              overlaps.s6 + overlaps.s7));
-  const float4 force = (float4)(fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7,
-                                fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7,
-                                fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7, 0.0f);
-  float4 u = vi;
-  u.w = 0.0f;
-  u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
-  const float speed = length(u);
-  if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
-  float4 xn = xi + PF_DT * u;
-  xn.w = ri;
-  if (sdf_dims.w != 0) {
-    float clearance = C[i] - 2.0f * PF_DT * length(u);
-    if (clearance <= 0.0f) {
-      float g[3];
-      float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
+    const uint pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 +
+                                overlaps.s6 + overlaps.s7));
+    const float4 force = (float4)(fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7,
+                                  fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7,
+                                  fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7, 0.0f);
+#else
+    /* one pair at a time (GPUs: few registers, many warps in flight),
+     * physics.cl's scalar formulas; the forces sum in 64-bit fixed point
+     * (PF_FIX_SCALE units), exact and so the same in any list order. A
+     * pair's force is at most PF_FIX_MAX = 2^14 force caps (the cap bounds
+     * the potential's part; this only bounds the dashpot's), and
+     * PF_FIX_SCALE = 2^47 / (force cap x list capacity), so sums stay
+     * below 2^61 and resolve 2^-40 of the cap for a list of 128. */
+    long fx = 0, fy = 0, fz = 0;
+    uint pairs = 0u;
+    for (uint k = 0; k < count; k += 4u) {
+      /* four entries' loads issued together (latency overlaps when few warps run) */
+      uint js[4];
+      float4 xs[4];
+#pragma unroll
+      for (uint q = 0; q < 4u; ++q) js[q] = k + q < count ? PF_AT(row, k + q) : i; /* past the count: i, skipped */
+#pragma unroll
+      for (uint q = 0; q < 4u; ++q) xs[q] = X[js[q]];
+#pragma unroll
+      for (uint q = 0; q < 4u; ++q) {
+        const uint j = js[q];
+        const float4 xj = xs[q];
+        float4 d = xi - xj;
+        d.w = 0.0f;
+        const float rs = ri + xj.w;
+        float d2 = dot(d, d);
+        const float touch2 = fmax(rs * rs, PF_CONTACT2);
+        if (j == i || !(d2 < fmax(touch2, PF_RC2))) continue;
+        if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other: a fixed, antisymmetric direction */
+          d = (float4)(j > i ? -PF_D_MIN : PF_D_MIN, 0.0f, 0.0f, 0.0f);
+          d2 = PF_D_MIN * PF_D_MIN;
+        }
+        float4 f = pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, PF_RC2,
+                                     PF_FORCE_CAP) * d;
+        if (d2 < touch2) {
+          const float4 vj = V[j];
+          const float4 nrm = d * rsqrt(d2);
+          float4 du = vi - vj;
+          du.w = 0.0f;
+          f += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT) * nrm;
+          if (d2 < rs * rs && j > i) ++pairs;
+        }
+        f = fmin(fmax(f, (float4)(-PF_FIX_MAX)), (float4)(PF_FIX_MAX)); /* so that no sum leaves 63 bits */
+        fx += (long)(f.x * PF_FIX_SCALE);
+        fy += (long)(f.y * PF_FIX_SCALE);
+        fz += (long)(f.z * PF_FIX_SCALE);
+      }
+    }
+    const float4 force = (float4)((float)fx, (float)fy, (float)fz, 0.0f) * (1.0f / PF_FIX_SCALE);
+#endif
+    float4 u = vi;
+    u.w = 0.0f;
+    u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
+    const float speed = length(u);
+    if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
+    float4 xn = xi + PF_DT * u;
+    xn.w = ri;
+    if (sdf_dims.w != 0) {
+      float clearance = C[i] - 2.0f * PF_DT * length(u);
+      if (clearance <= 0.0f) {
+        float g[3];
+        float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
+                                  sdf_origin.w, xn.x, xn.y, xn.z, g);
+        const float4 grid_pos = (xn - sdf_origin) * sdf_origin.w;
+        const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
+                                grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
+                                grid_pos.z > (float)(sdf_dims.z - 1);
+        if (phi > 0.0f || outside_box) {
+          bits |= PF_FLAGGED_BIT;
+          flags[i] = 1u;
+        }
+        if (phi > -ri) {
+          for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
+            const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+            if (!(gl > 1e-20f)) break;
+            const float push = (phi + ri) / gl;
+            xn.x -= push * g[0];
+            xn.y -= push * g[1];
+            xn.z -= push * g[2];
+            phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
                                 sdf_origin.w, xn.x, xn.y, xn.z, g);
-      const float4 grid_pos = (xn - sdf_origin) * sdf_origin.w;
-      const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
-                              grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
-                              grid_pos.z > (float)(sdf_dims.z - 1);
-      if (phi > 0.0f || outside_box) {
-        bits |= PF_FLAGGED_BIT;
-        flags[i] = 1u;
-      }
-      if (phi > -ri) {
-        for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
+          }
           const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-          if (!(gl > 1e-20f)) break;
-          const float push = (phi + ri) / gl;
-          xn.x -= push * g[0];
-          xn.y -= push * g[1];
-          xn.z -= push * g[2];
-          phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
-                              sdf_origin.w, xn.x, xn.y, xn.z, g);
+          if (gl > 1e-20f) {
+            const float4 nrm = (float4)(g[0], g[1], g[2], 0.0f) / gl;
+            u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
+          }
         }
-        const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        if (gl > 1e-20f) {
-          const float4 nrm = (float4)(g[0], g[1], g[2], 0.0f) / gl;
-          u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
-        }
+        clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
       }
-      clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
+      C[i] = clearance;
     }
-    C[i] = clearance;
+    X_out[i] = xn;
+    V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
+    float4 dxn = xn - xi;
+    dxn.w = 0.0f;
+    float4 drift = xn - XREF[i];
+    drift.w = 0.0f;
+    if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], 1u);
+    record = pf_record(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), rebuilt, pairs,
+                       (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
   }
-  X_out[i] = xn;
-  V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
-  float4 dxn = xn - xi;
-  dxn.w = 0.0f;
-  float4 drift = xn - XREF[i];
-  drift.w = 0.0f;
-  if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], 1u);
-  S_out[i] = (float4)(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), as_float(min(pairs, 0xFFFFu) | bits));
+  /* the reductions: this step's group, the last step's level 1, the level 2 of the step before */
+  const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
+  part[lid] = record;
+  if (group < g2_prev) part[PF_WG + lid] = pf_partial_at(L1_prev, g1_prev, group * PF_WG, lid);
+  if (group == 0u && g2_prev2 > 0u) part[2u * PF_WG + lid] = pf_partials_strided(L2_prev, g2_prev2, lid);
+  barrier(CLK_LOCAL_MEM_FENCE);
+  const uint need = 1u | (group < g2_prev ? 2u : 0u) | (group == 0u && g2_prev2 > 0u ? 4u : 0u);
+  const float8 s = pf_group_sums(part, mid, lid, need);
+  if (lid == 0u && group < max((n + PF_WG - 1u) / PF_WG, 1u)) L1_out[group] = s;
+  if (lid == 1u && group < g2_prev) L2_out[group] = s;
+  if (lid == 2u && group == 0u && g2_prev2 > 0u) history[slot_prev2] = s;
 }

@@ -4,6 +4,7 @@
 #include "pfill/device/device.hpp"
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <vector>
 
@@ -80,6 +81,15 @@ inline Vec3 total_momentum(const std::vector<Particle>& ps) {
 inline Device& shared_device() {
   static Device device;
   return device;
+}
+
+/// Engine settings for a test: the defaults, with the pair loop that
+/// PFILL_TEST_PAIR_LANES names (1 or 8; unset: the device's own). ctest
+/// runs the engine tests once more with 1, so CI checks the GPU loop too.
+inline EngineParams test_params() {
+  EngineParams p;
+  if (const char* lanes = std::getenv("PFILL_TEST_PAIR_LANES")) p.pair_lanes = std::atoi(lanes);
+  return p;
 }
 
 }  // namespace pfill::test

@@ -13,7 +13,7 @@ using namespace pfill::test;
 TEST_CASE("engine small run: every kernel on a few dozen particles") {
   Device device;
   MESSAGE("device: " << device.info().name << " on " << device.info().platform);
-  EngineParams p;
+  EngineParams p = test_params();
   p.history_capacity = 8;
   const double R = 2.5;
   Engine engine(device, p);

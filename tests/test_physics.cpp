@@ -32,7 +32,7 @@ double pair_energy(const EngineParams& p, const std::vector<Particle>& ps) {
 
 TEST_CASE("physics: momentum is unchanged by steps with collisions and no walls") {
   for (double cutoff : {0.0, 2.5}) {
-    EngineParams p;
+    EngineParams p = test_params();
     p.cutoff_sigma = cutoff;
     p.restitution = 0.3;
     p.domain.add({-4, -4, -4});
@@ -61,7 +61,7 @@ TEST_CASE("physics: energy drift stays bounded over 10,000 steps (restitution 1,
   // A bound droplet (rc = 2.5 sigma, attractive) with no wall: particles keep
   // interacting for the whole run. (The wall's projection to exactly r inside
   // is not energy-neutral: it loses O(dt) energy per hit by design.)
-  EngineParams p;
+  EngineParams p = test_params();
   p.cutoff_sigma = 2.5;
   p.restitution = 1;
   p.domain.add({-8, -8, -8});
@@ -76,7 +76,10 @@ TEST_CASE("physics: energy drift stays bounded over 10,000 steps (restitution 1,
   const double pe1 = pair_energy(p, end), e1 = kinetic_energy(end) + pe1;
   INFO("E0 " << e0 << " (pair " << pe0 << "), E1 " << e1 << " (pair " << pe1 << ")");
   CHECK(pe1 < 0.5 * pe0);  // still a bound, interacting droplet (pair energy negative)
-  CHECK(std::fabs(e1 - e0) < 5e-3 * std::fabs(pe0));  // measured 1.5e-3 (force jumps at the cutoff)
+  // The force jumps at the cutoff, so each pair crossing it adds a small
+  // error of random sign: measured 4e-4 to 9e-3 of |pair energy| over six
+  // seeds and both pair loops (pair_lanes 8 and 1).
+  CHECK(std::fabs(e1 - e0) < 1.5e-2 * std::fabs(pe0));
 }
 
 TEST_CASE("physics: particles in a sphere and in a box never leave over 10,000 steps") {
@@ -92,7 +95,7 @@ TEST_CASE("physics: particles in a sphere and in a box never leave over 10,000 s
       {"box", box_grid(h, 0.125), [h](const Vec3& x) { return box_distance(x, h); }},
   };
   for (const Shape& shape : shapes) {
-    EngineParams p;
+    EngineParams p = test_params();
     p.restitution = 0.9;
     p.wall_restitution = 0.9;
     Engine engine(shared_device(), p);
@@ -113,7 +116,7 @@ TEST_CASE("physics: particles in a sphere and in a box never leave over 10,000 s
 }
 
 TEST_CASE("physics: a particle born on top of another gives finite values and they separate") {
-  EngineParams p;
+  EngineParams p = test_params();
   const double R = 3;
   Engine engine(shared_device(), p);
   engine.set_field(sphere_grid(R, 0.125));

@@ -68,6 +68,7 @@ struct Engine::Impl {
   Device& device;
   EngineParams params;
   EngineConstants constants;
+  size_t group_size;  // PF_WG: the work-group of `advance` and `finalize_history` (before `program`)
   Program program;
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours;
 
@@ -90,26 +91,31 @@ struct Engine::Impl {
   cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
   cl_float4 sdf_origin{};
   cl_int4 sdf_dims{};
-  // Per-step scalars in flight (see the top of engine.cl): particle records
-  // S of the last step, partials P of the one before.
-  cl::Buffer records[2], partials[2], history;
-  bool last_pending = false;  // records[(steps - 1) % 2] hold step steps-1, unreduced
-  size_t last_n = 0;
-  size_t before_groups = 0;   // >0: partials[(steps - 1) % 2] hold step steps-2, unreduced
+  // Per-step scalars in flight (see the top of engine.cl): level-1
+  // partials of the last step, level-2 partials of the one before.
+  cl::Buffer level1[2], level2[2], history;
+  size_t last_groups = 0;    // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
+  size_t before_groups = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
   uint64_t steps = 0, history_read = 0;
   std::vector<StepRecord> backlog;
   std::vector<float> history_host;  // read-back staging, kept to avoid an allocation per read
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
-      : device(d), params(p), constants(checked_constants(d, p)), program(d, {"physics.cl", "engine.cl"}, defines()) {
-    k_step = program.kernel("advance", params.work_group);
+      : device(d), params(p), constants(checked_constants(d, p)), group_size(reduction_group(d, p)),
+        program(d, {"physics.cl", "engine.cl"}, defines()) {
+    k_step = program.kernel("advance", group_size);
+    k_finalize = program.kernel("finalize_history", group_size);
+    for (const Kernel* k : {&k_step, &k_finalize})
+      if (k->work_group() != group_size)
+        throw Error("engine: device '" + device.info().name + "' runs " + k->name() + " with at most " +
+                    std::to_string(k->work_group()) + " work-items a group; set EngineParams::work_group to " +
+                    std::to_string(k->work_group()));
     k_insert = program.kernel("insert_cells", params.work_group);
     k_birth = program.kernel("birth_one", 1);
     k_move = program.kernel("move_particle", 1);
     k_birth_linked = program.kernel("birth_linked", params.work_group);
     k_remove_linked = program.kernel("remove_linked", params.work_group);
-    k_finalize = program.kernel("finalize_history", 1);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
     rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
@@ -156,6 +162,15 @@ struct Engine::Impl {
     const EngineConstants& c = constants;
     std::map<std::string, std::string> d = base_defines(c);
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
+    size_t root = 1;
+    while (4 * root * root <= group_size) root *= 2;  // about sqrt(PF_WG): two short serial runs
+    const int lanes = params.pair_lanes != 0 ? params.pair_lanes : device.info().type == "CPU" ? 8 : 1;
+    d["PF_PAIR_LANES"] = std::to_string(lanes);
+    d["PF_LIST_TILE"] = lanes == 8 ? "1u" : "32u";  // reserve() keeps the capacity a multiple of 32
+    d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (constants.force_cap * constants.list_capacity));
+    d["PF_FIX_MAX"] = flt(16384 * constants.force_cap);
+    d["PF_WG"] = std::to_string(group_size) + "u";
+    d["PF_WG_ROOT"] = std::to_string(root) + "u";
     return d;
   }
 
@@ -191,12 +206,22 @@ struct Engine::Impl {
     }
   }
 
-  // Records summed by one work-item: about sqrt(n), at least 64, so that
-  // neither the chunk sums nor the final sum of partials is long.
-  static size_t chunk_for(size_t count) {
-    size_t c = 64;
-    while (c * c < count) c *= 2;
-    return c;
+  // The work-group of the kernels that reduce in local memory: the
+  // preferred size, lowered to the device's limit, a power of two.
+  static size_t reduction_group(const Device& device, const EngineParams& p) {
+    const size_t limit = std::min(p.work_group, device.info().max_work_group);
+    size_t g = 1;
+    while (g * 2 <= limit) g *= 2;
+    return g;
+  }
+
+  size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
+
+  // New buffers may reuse a freed buffer's handle: set every argument again.
+  void forget_kernel_args() {
+    for (Kernel* k : {&k_step, &k_insert, &k_birth, &k_move, &k_birth_linked, &k_remove_linked, &k_finalize,
+                      &k_neighbours})
+      k->forget_args();
   }
 
   // Room for `want` particles: doubling, state copied on the device.
@@ -226,7 +251,6 @@ struct Engine::Impl {
     flags = nf;
     clearance = nc;
     capacity = cap;
-    for (auto& r : records) r = device.make_buffer(cap * sizeof(cl_float4), "step records");
     lists = device.make_buffer(cap * constants.list_capacity * sizeof(cl_uint), "neighbour lists");
     list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
     // Counts past the last particle stay 0: a linked birth counts up from there.
@@ -234,7 +258,10 @@ struct Engine::Impl {
              "clEnqueueFillBuffer", "neighbour list counts");
     list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
     lists_valid = false;
-    for (auto& p : partials) p = device.make_buffer((cap / 64 + 1) * kRecord * sizeof(float), "step partials");
+    forget_kernel_args();
+    const size_t g1 = groups_for(cap) + 1, g2 = groups_for(g1) + 1;
+    for (auto& b : level1) b = device.make_buffer(g1 * kRecord * sizeof(float), "step partials (level 1)");
+    for (auto& b : level2) b = device.make_buffer(g2 * kRecord * sizeof(float), "step partials (level 2)");
   }
 
   // The neighbour grid over `box`: cells of edge exactly cell_size (the
@@ -265,6 +292,7 @@ struct Engine::Impl {
     last_stamp = 0;
     have_domain = true;
     lists_valid = false;
+    forget_kernel_args();
   }
 
   // A stamp no count word holds yet; on wrap the counts are cleared.
@@ -290,16 +318,15 @@ struct Engine::Impl {
     run(k_insert, n);
   }
 
-  // Finishes the reductions of the steps in flight (one tiny launch).
+  // Finishes the reductions of the steps in flight (one work-group).
   void reduce_pending() {
-    if (!last_pending && before_groups == 0) return;
+    if (last_groups == 0 && before_groups == 0) return;
     const size_t h = params.history_capacity;
-    const int last = static_cast<int>((steps + 1) % 2);  // (steps - 1) % 2
-    k_finalize.set_args(records[last], cl_uint(last_n), cl_uint(last_pending ? 1 : 0), history,
-                        cl_uint((steps + h - 1) % h), partials[last], cl_uint(before_groups),
-                        cl_uint((steps + h - 2) % h));
-    run(k_finalize, 1);
-    last_pending = false;
+    const int last = static_cast<int>((steps + 1) % 2), other = 1 - last;  // last = (steps - 1) % 2
+    k_finalize.set_args(level1[last], cl_uint(last_groups), level2[other], level2[last], cl_uint(before_groups),
+                        history, cl_uint((steps + h - 1) % h), cl_uint((steps + h - 2) % h));
+    run(k_finalize, group_size);
+    last_groups = 0;
     before_groups = 0;
   }
 
@@ -319,13 +346,12 @@ struct Engine::Impl {
     insert_cells(stamp, force);
     const size_t h = params.history_capacity;
     const int now = static_cast<int>(steps % 2), last = 1 - now;
-    const size_t chunk = chunk_for(last_n);
-    const size_t chunk_groups = last_pending ? (last_n + chunk - 1) / chunk : 0;
+    const size_t level2_groups = groups_for(last_groups);  // the last step's level-2 partials, made now
     auto set_step_args = [&](const auto& field) {
       k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv,
-                      cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), records[now],
-                      records[last], cl_uint(last_n), cl_uint(chunk), cl_uint(chunk_groups), partials[now],
-                      partials[last], cl_uint(before_groups), history, cl_uint((steps + h - 2) % h), lists,
+                      cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
+                      level1[last], cl_uint(last_groups), level2[now], level2[last], cl_uint(before_groups),
+                      history, cl_uint((steps + h - 2) % h), lists,
                       list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
                       cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), sort_rows());
     };
@@ -333,12 +359,11 @@ struct Engine::Impl {
       set_step_args(sdf_image);
     else
       set_step_args(sdf);
-    run(k_step, std::max<size_t>({n, chunk_groups, 1}));
+    run(k_step, std::max<size_t>({n, level2_groups * group_size, 1}));
     newcomers.clear();
-    before_groups = chunk_groups;
+    before_groups = level2_groups;
+    last_groups = std::max<size_t>(groups_for(n), 1);
     lists_valid = true;
-    last_pending = true;
-    last_n = n;
     cur = nxt;
     ++steps;
   }
@@ -511,6 +536,79 @@ std::vector<Particle> Engine::read_particles() {
     out[i].mass = 1.0 / vs[i].s[3];
   }
   return out;
+}
+
+namespace {
+
+// The bits of v (21 of them) spread to every third bit.
+uint64_t spread_bits(uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+
+}  // namespace
+
+std::vector<size_t> Engine::sort_by_cells() {
+  Impl& m = *impl_;
+  m.require_domain();
+  m.reduce_pending();
+  const size_t n = m.n;
+  std::vector<cl_float4> xs(n), vs(n);
+  std::vector<cl_uint> flags(n);
+  std::vector<cl_float> clearance(n);
+  auto& q = m.device.queue();
+  if (n > 0) {
+    check_cl(q.enqueueReadBuffer(m.X[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), xs.data()), "clEnqueueReadBuffer",
+             "positions");
+    check_cl(q.enqueueReadBuffer(m.V[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), vs.data()), "clEnqueueReadBuffer",
+             "velocities");
+    check_cl(q.enqueueReadBuffer(m.flags, CL_FALSE, 0, n * sizeof(cl_uint), flags.data()), "clEnqueueReadBuffer",
+             "flags");
+    check_cl(q.enqueueReadBuffer(m.clearance, CL_TRUE, 0, n * sizeof(cl_float), clearance.data()),
+             "clEnqueueReadBuffer", "clearance");
+  }
+  // Morton key of each particle's cell (clamped into the grid, as the kernels do).
+  std::vector<std::pair<uint64_t, size_t>> keyed(n);
+  for (size_t i = 0; i < n; ++i) {
+    uint64_t key = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double t = std::floor((xs[i].s[a] - m.cell_origin.s[a]) * m.cell_inv.s[a]);
+      const int c = static_cast<int>(std::clamp(t, 0.0, static_cast<double>(m.cell_dims.s[a] - 1)));
+      key |= spread_bits(static_cast<uint64_t>(c)) << a;
+    }
+    keyed[i] = {key, i};
+  }
+  std::sort(keyed.begin(), keyed.end());  // (key, old index): ties keep their order
+  std::vector<size_t> order(n);
+  std::vector<cl_float4> xs2(n), vs2(n);
+  std::vector<cl_uint> flags2(n);
+  std::vector<cl_float> clearance2(n);
+  for (size_t k = 0; k < n; ++k) {
+    const size_t i = keyed[k].second;
+    order[k] = i;
+    xs2[k] = xs[i];
+    vs2[k] = vs[i];
+    flags2[k] = flags[i];
+    clearance2[k] = clearance[i];
+  }
+  if (n > 0) {
+    check_cl(q.enqueueWriteBuffer(m.X[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), xs2.data()),
+             "clEnqueueWriteBuffer", "positions");
+    check_cl(q.enqueueWriteBuffer(m.V[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), vs2.data()),
+             "clEnqueueWriteBuffer", "velocities");
+    check_cl(q.enqueueWriteBuffer(m.flags, CL_FALSE, 0, n * sizeof(cl_uint), flags2.data()), "clEnqueueWriteBuffer",
+             "flags");
+    check_cl(q.enqueueWriteBuffer(m.clearance, CL_TRUE, 0, n * sizeof(cl_float), clearance2.data()),
+             "clEnqueueWriteBuffer", "clearance");
+  }
+  m.lists_valid = false;  // the next step rebuilds every list
+  m.newcomers.clear();
+  return order;
 }
 
 std::vector<size_t> Engine::flagged_particles() {

@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <map>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "pfill/device/device.hpp"
@@ -25,10 +26,27 @@ class Kernel {
   cl::Kernel& handle() { return kernel_; }
 
   /// Sets argument `index`; the error names the kernel and the argument.
+  /// A value equal to the one last set there is not set again (a step
+  /// sets some 40 arguments and few change; each set costs the host time
+  /// on some drivers). Call forget_args() when buffers are reallocated.
   template <typename T>
   void set_arg(cl_uint index, const T& value) {
+    std::vector<unsigned char> bytes;
+    if constexpr (std::is_base_of_v<cl::Memory, T>) {
+      const cl_mem handle = value();
+      bytes.assign(reinterpret_cast<const unsigned char*>(&handle),
+                   reinterpret_cast<const unsigned char*>(&handle) + sizeof handle);
+    } else if constexpr (std::is_trivially_copyable_v<T>) {
+      bytes.assign(reinterpret_cast<const unsigned char*>(&value),
+                   reinterpret_cast<const unsigned char*>(&value) + sizeof value);
+    }
+    if (!bytes.empty() && index < last_args_.size() && last_args_[index] == bytes) return;
     check_cl(kernel_.setArg(index, value), "clSetKernelArg", name_ + " argument " + std::to_string(index));
+    if (index >= last_args_.size()) last_args_.resize(index + 1);
+    last_args_[index] = std::move(bytes);
   }
+  /// Forgets the arguments last set, so that the next set_arg sets each.
+  void forget_args() { last_args_.clear(); }
   /// Sets arguments 0, 1, ... in order.
   template <typename... Args>
   void set_args(const Args&... args) {
@@ -40,6 +58,7 @@ class Kernel {
   cl::Kernel kernel_;
   std::string name_;
   size_t work_group_ = 1;
+  std::vector<std::vector<unsigned char>> last_args_;  // empty entry: not cached (always set)
 };
 
 /// A number of local memory bytes as a kernel argument (for set_arg).

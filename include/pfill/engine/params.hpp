@@ -37,6 +37,12 @@ struct EngineParams {
   /// support, or a field larger than its 3D image limits, is a pfill::Error
   /// (no silent fallback: the setting is explicit).
   bool field_image = false;
+  /// The pair loop: 0 picks by device (8 on CPU devices, 1 elsewhere); 8:
+  /// eight list entries at a time as float8 vectors (PoCL turns them into
+  /// SIMD), each list row contiguous; 1: one entry at a time, the rows of 32
+  /// consecutive particles interleaved (a GPU warp reads them coalesced,
+  /// and the loop needs few registers). Same physics, same tests.
+  int pair_lanes = 0;
 };
 
 /// Everything derived from EngineParams (see derive_constants).
