@@ -83,13 +83,20 @@
 /* The pair loop (EngineParams::pair_lanes) and the list rows' layout go
  * together. PF_PAIR_LANES 8 (CPU devices): 8 list entries at a time as
  * float8 vectors, each row contiguous (PF_LIST_TILE 1). PF_PAIR_LANES 1
- * (GPUs): one entry at a time, and the rows of 32 consecutive particles
- * interleaved (PF_LIST_TILE 32), so the 32 work-items of a warp reading
- * their k-th entries read 128 contiguous bytes. PF_ROW(list, i) is particle
- * i's row, PF_AT(row, k) its entry k; capacities are multiples of 32. */
-#define PF_ROW(list, i) \
-  ((list) + ((size_t)((i) / PF_LIST_TILE) * PF_LIST_CAP * PF_LIST_TILE + (i) % PF_LIST_TILE))
-#define PF_AT(row, k) ((row)[(size_t)(k) * PF_LIST_TILE])
+ * (GPUs): entries 4 at a time, and the rows of 32 consecutive particles
+ * interleaved in groups of 4 entries (PF_LIST_TILE 32): entries 4q..4q+3
+ * of the tile's 32 rows are 512 contiguous bytes, so a warp reading (or a
+ * list build writing) 4 entries a work-item moves whole lines. PF_ROW(list,
+ * i) is particle i's row, PF_AT(row, k) its entry k (each uses its
+ * arguments twice: no side effects in them); capacities are multiples of
+ * 32 particles and of 8 entries. */
+#if PF_LIST_TILE == 1
+#define PF_ROW(list, i) ((list) + (size_t)(i) * PF_LIST_CAP)
+#define PF_AT(row, k) ((row)[k])
+#else
+#define PF_ROW(list, i) ((list) + (size_t)((i) / 32u) * PF_LIST_CAP * 32u + ((i) % 32u) * 4u)
+#define PF_AT(row, k) ((row)[(size_t)((k) >> 2) * 128u + ((k) & 3u)])
+#endif
 
 #define PF_COUNT_MASK 0xFFu
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
@@ -287,14 +294,18 @@ __kernel void remove_linked(__global float4* X, __global float4* V, __global uin
     const uint count = min(list_count[last], PF_LIST_CAP);
     uint kept = 0u;
     for (uint k = 0; k < count; ++k)
-      if (PF_AT(from, k) != gone) PF_AT(row, kept++) = PF_AT(from, k);
+      if (PF_AT(from, k) != gone) {
+        PF_AT(row, kept) = PF_AT(from, k); /* (PF_AT uses its arguments twice: no ++ in them) */
+        ++kept;
+      }
     list_count[i] = kept;
     return;
   }
   uint count = min(list_count[i], PF_LIST_CAP);
   for (uint k = 0; k < count;) {
     if (PF_AT(row, k) == gone) {
-      PF_AT(row, k) = PF_AT(row, --count);
+      --count;
+      PF_AT(row, k) = PF_AT(row, count);
     } else {
       if (PF_AT(row, k) == last) PF_AT(row, k) = gone;
       ++k;
@@ -425,6 +436,7 @@ bool pf_cell_in_reach(float4 frac, int ox, int oy, int oz, float cell_inv) {
 uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
                    int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
+  uint4 pending = (uint4)(0u);
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
@@ -443,11 +455,16 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const float dz = xi.z - block[PF_SLOT(k, 2u)];
           const uint j = as_uint(block[PF_SLOT(k, 4u)]);
           if (j != i && dx * dx + dy * dy + dz * dz < PF_RL2) {
-            if (found < PF_LIST_CAP) PF_AT(row, found) = j;
+            /* gathered in 4s and stored as one vector (see PF_ROW) */
+            const uint slot = found & 3u;
+            pending = (uint4)(slot == 0u ? j : pending.x, slot == 1u ? j : pending.y, slot == 2u ? j : pending.z, j);
+            if (slot == 3u && found < PF_LIST_CAP) vstore4(pending, 0, &PF_AT(row, found - 3u));
             ++found;
           }
         }
       }
+  for (uint q = found & ~3u; q < found && q < PF_LIST_CAP; ++q) /* the last, partial group */
+    PF_AT(row, q) = q % 4u == 0u ? pending.x : q % 4u == 1u ? pending.y : pending.z;
   if (found > PF_LIST_CAP) {
     *bits |= PF_OVERFLOW_BIT;
     found = PF_LIST_CAP;
@@ -654,7 +671,12 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
       uint js[4];
       float4 xs[4];
 #pragma unroll
-      for (uint q = 0; q < 4u; ++q) js[q] = k + q < count ? PF_AT(row, k + q) : i; /* past the count: i, skipped */
+      for (uint q = 0; q < 4u; ++q) js[q] = i; /* past the count: i, skipped */
+      const uint4 group = vload4(0, &PF_AT(row, k)); /* k is a multiple of 4: one 16-byte load */
+      js[0] = group.x; /* entry k < count */
+      if (k + 1u < count) js[1] = group.y;
+      if (k + 2u < count) js[2] = group.z;
+      if (k + 3u < count) js[3] = group.w;
 #pragma unroll
       for (uint q = 0; q < 4u; ++q) xs[q] = X[js[q]];
 #pragma unroll
