@@ -44,9 +44,10 @@
  * max displacement, lists rebuilt (0/1), then as uints: colliding pairs,
  * flagged particles, cell-overflow hits, particle count. finalize_history
  * finishes the (at most two) steps still in flight the same way. Each sum
- * over a group is a two-level one in local memory (PF_WG_ROOT items sum
- * PF_WG / PF_WG_ROOT records each, then one item sums theirs): short
- * serial runs for GPUs, few barriers for CPU devices.
+ * over a group is a two-level one in local memory on GPUs (PF_WG_ROOT
+ * items sum PF_WG / PF_WG_ROOT records each, then one item sums theirs:
+ * short serial runs) and one serial run on CPU devices (PF_WG_ROOT 1: one
+ * barrier fewer, which PoCL pays for in loop overhead).
  *
  * Wall clearance: C[i] is a lower bound on how far particle i's sphere is
  * from the wall; it shrinks by 2 |dx| a step (the trilinear field changes
@@ -172,6 +173,15 @@ float8 pf_partials_strided(__global const float8* src, uint count, uint lid) {
  * sum w, in a fixed order, where bit w of `need` (the same in the whole
  * group) is set. Every item of the group must call it. */
 float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint need) {
+#if PF_WG_ROOT == 1 /* CPU devices: one serial run each, no second barrier */
+  float8 total = (float8)(0.0f);
+  if (lid < 3u && ((need >> lid) & 1u)) {
+    __local const float8* run = part + lid * PF_WG;
+    total = run[0];
+    for (uint k = 1; k < PF_WG; ++k) total = pf_record_merge(total, run[k]);
+  }
+  return total;
+#else
   const uint per = PF_WG / PF_WG_ROOT;
   if (lid < 3u * PF_WG_ROOT && ((need >> (lid / PF_WG_ROOT)) & 1u)) {
     __local const float8* run = part + (lid / PF_WG_ROOT) * PF_WG + (lid % PF_WG_ROOT) * per;
@@ -187,6 +197,7 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
     for (uint k = 1; k < PF_WG_ROOT; ++k) total = pf_record_merge(total, run[k]);
   }
   return total;
+#endif
 }
 
 /* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and

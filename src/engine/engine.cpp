@@ -162,8 +162,9 @@ struct Engine::Impl {
     const EngineConstants& c = constants;
     std::map<std::string, std::string> d = base_defines(c);
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
-    size_t root = 1;
-    while (4 * root * root <= group_size) root *= 2;  // about sqrt(PF_WG): two short serial runs
+    size_t root = 1;  // CPU devices: one serial run; GPUs: about sqrt(PF_WG), two short ones
+    if (device.info().type != "CPU")
+      while (4 * root * root <= group_size) root *= 2;
     const int lanes = params.pair_lanes != 0 ? params.pair_lanes : device.info().type == "CPU" ? 8 : 1;
     d["PF_PAIR_LANES"] = std::to_string(lanes);
     d["PF_LIST_TILE"] = lanes == 8 ? "1u" : "32u";  // reserve() keeps the capacity a multiple of 32

@@ -4,7 +4,9 @@
 #pragma once
 #include <CL/opencl.hpp>
 
+#include <array>
 #include <cstddef>
+#include <cstring>
 #include <map>
 #include <string>
 #include <type_traits>
@@ -31,19 +33,19 @@ class Kernel {
   /// on some drivers). Call forget_args() when buffers are reallocated.
   template <typename T>
   void set_arg(cl_uint index, const T& value) {
-    std::vector<unsigned char> bytes;
+    ArgBytes bytes;  // size 0: not cached (always set)
     if constexpr (std::is_base_of_v<cl::Memory, T>) {
       const cl_mem handle = value();
-      bytes.assign(reinterpret_cast<const unsigned char*>(&handle),
-                   reinterpret_cast<const unsigned char*>(&handle) + sizeof handle);
-    } else if constexpr (std::is_trivially_copyable_v<T>) {
-      bytes.assign(reinterpret_cast<const unsigned char*>(&value),
-                   reinterpret_cast<const unsigned char*>(&value) + sizeof value);
+      bytes.size = sizeof handle;
+      std::memcpy(bytes.data.data(), &handle, sizeof handle);
+    } else if constexpr (std::is_trivially_copyable_v<T> && sizeof(T) <= sizeof(ArgBytes::data)) {
+      bytes.size = sizeof value;
+      std::memcpy(bytes.data.data(), &value, sizeof value);
     }
-    if (!bytes.empty() && index < last_args_.size() && last_args_[index] == bytes) return;
+    if (bytes.size > 0 && index < last_args_.size() && last_args_[index] == bytes) return;
     check_cl(kernel_.setArg(index, value), "clSetKernelArg", name_ + " argument " + std::to_string(index));
     if (index >= last_args_.size()) last_args_.resize(index + 1);
-    last_args_[index] = std::move(bytes);
+    last_args_[index] = bytes;
   }
   /// Forgets the arguments last set, so that the next set_arg sets each.
   void forget_args() { last_args_.clear(); }
@@ -58,7 +60,12 @@ class Kernel {
   cl::Kernel kernel_;
   std::string name_;
   size_t work_group_ = 1;
-  std::vector<std::vector<unsigned char>> last_args_;  // empty entry: not cached (always set)
+  struct ArgBytes {
+    size_t size = 0;
+    std::array<unsigned char, 16> data{};
+    bool operator==(const ArgBytes& o) const { return size == o.size && data == o.data; }
+  };
+  std::vector<ArgBytes> last_args_;
 };
 
 /// A number of local memory bytes as a kernel argument (for set_arg).
