@@ -35,19 +35,20 @@
  * PF_PAIR_LANES below).
  *
  * Per-step scalars (kinetic energy, speeds, counts: one float8 record a
- * particle, pf_record_merge combines two), reduced without a launch of
- * their own, in a fixed order (so the same run gives the same sums):
- * step t sums its work-group's records into level-1 partial g (L1, one a
- * group); during step t+1, group c sums L1 partials [c PF_WG, (c + 1)
- * PF_WG) into level-2 partial c (L2); during step t+2, group 0 sums the L2
- * partials into the HISTORY record of step t: kinetic energy, max speed,
- * max displacement, lists rebuilt (0/1), then as uints: colliding pairs,
- * flagged particles, cell-overflow hits, particle count. finalize_history
- * finishes the (at most two) steps still in flight the same way. Each sum
- * over a group is a two-level one in local memory on GPUs (PF_WG_ROOT
- * items sum PF_WG / PF_WG_ROOT records each, then one item sums theirs:
- * short serial runs) and one serial run on CPU devices (PF_WG_ROOT 1: one
- * barrier fewer, which PoCL pays for in loop overhead).
+ * particle, pf_record_merge combines two) are reduced without a launch of
+ * their own, in a fixed order (so the same run gives the same sums), over
+ * three steps: step t makes level-1 partials (L1), step t+1 sums chunks of
+ * PF_WG of them into level-2 partials (L2), and step t+2 sums those into
+ * the HISTORY record of step t: kinetic energy, max speed, max
+ * displacement, lists rebuilt (0/1), then as uints: colliding pairs,
+ * flagged particles, cell-overflow hits, particle count. PF_GROUP_SUMS 1
+ * (GPUs): L1 holds one sum a work-group, made in local memory, and the
+ * chunk and final sums are group sums too (two levels: PF_WG_ROOT items sum
+ * PF_WG / PF_WG_ROOT records each, then one item sums theirs). PF_GROUP_SUMS
+ * 0 (CPU devices): L1 holds each particle's record, chunk c is the serial
+ * sum of group c's first item, and work-item 0 sums the L2 partials: no barrier,
+ * which PoCL pays for in loop overhead. finalize_history finishes the (at
+ * most two) steps still in flight by the same sums.
  *
  * Wall clearance: C[i] is a lower bound on how far particle i's sphere is
  * from the wall; it shrinks by 2 |dx| a step (the trilinear field changes
@@ -75,13 +76,14 @@
 #define PF_LIST_CAP 32u
 #define PF_WG 64u
 #define PF_WG_ROOT 8u
+#define PF_GROUP_SUMS 0
 #define PF_LIST_TILE 1u
 #define PF_PAIR_LANES 8
 #define PF_FIX_SCALE 1.0e9f
 #define PF_FIX_MAX 1.0e6f
 #endif
 
-/* The pair loop (EngineParams::pair_lanes) and the list rows' layout go
+/* The pair loop (EngineParams::step_form) and the list rows' layout go
  * together. PF_PAIR_LANES 8 (CPU devices): 8 list entries at a time as
  * float8 vectors, each row contiguous (PF_LIST_TILE 1). PF_PAIR_LANES 1
  * (GPUs): entries 4 at a time, and the rows of 32 consecutive particles
@@ -168,20 +170,31 @@ float8 pf_partials_strided(__global const float8* src, uint count, uint lid) {
   return s;
 }
 
+/* Partials [first, end) of src summed in order by one work-item (as
+ * pf_record_merge would, in scalars: PoCL makes faster code of them). */
+float8 pf_partials_serial(__global const float8* src, uint first, uint end) {
+  float ke = 0.0f, speed = 0.0f, disp = 0.0f, rebuilt = 0.0f;
+  uint pairs = 0u, flagged = 0u, overflow = 0u, count = 0u;
+  for (uint k = first; k < end; ++k) {
+    const float8 r = src[k];
+    const uint4 u = as_uint4(r.s4567);
+    ke += r.s0;
+    speed = fmax(speed, r.s1);
+    disp = fmax(disp, r.s2);
+    rebuilt = fmax(rebuilt, r.s3);
+    pairs += u.x;
+    flagged += u.y;
+    overflow += u.z;
+    count = max(count, u.w);
+  }
+  return (float8)(ke, speed, disp, rebuilt, as_float4((uint4)(pairs, flagged, overflow, count)));
+}
+
 /* Up to three group sums at once (one record a work-item in each of
  * part[0..2], stored by the caller before a barrier): item w < 3 returns
  * sum w, in a fixed order, where bit w of `need` (the same in the whole
  * group) is set. Every item of the group must call it. */
 float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint need) {
-#if PF_WG_ROOT == 1 /* CPU devices: one serial run each, no second barrier */
-  float8 total = (float8)(0.0f);
-  if (lid < 3u && ((need >> lid) & 1u)) {
-    __local const float8* run = part + lid * PF_WG;
-    total = run[0];
-    for (uint k = 1; k < PF_WG; ++k) total = pf_record_merge(total, run[k]);
-  }
-  return total;
-#else
   const uint per = PF_WG / PF_WG_ROOT;
   if (lid < 3u * PF_WG_ROOT && ((need >> (lid / PF_WG_ROOT)) & 1u)) {
     __local const float8* run = part + (lid / PF_WG_ROOT) * PF_WG + (lid % PF_WG_ROOT) * per;
@@ -197,7 +210,6 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
     for (uint k = 1; k < PF_WG_ROOT; ++k) total = pf_record_merge(total, run[k]);
   }
   return total;
-#endif
 }
 
 /* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
@@ -343,10 +355,11 @@ __kernel void move_particle(__global float4* X, __global float4* V, __global uin
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_history(
     __global const float8* L1_last, const uint g1, __global float8* L2_scratch, __global const float8* L2_prev,
     const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev) {
-  __local float8 part[3u * PF_WG];
-  __local float8 mid[3u * PF_WG_ROOT];
   const uint lid = get_local_id(0);
   const uint g2 = (g1 + PF_WG - 1u) / PF_WG;
+#if PF_GROUP_SUMS
+  __local float8 part[3u * PF_WG];
+  __local float8 mid[3u * PF_WG_ROOT];
   for (uint c = 0; c < g2; ++c) {
     part[PF_WG + lid] = pf_partial_at(L1_last, g1, c * PF_WG, lid);
     barrier(CLK_LOCAL_MEM_FENCE);
@@ -360,6 +373,12 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_histor
   const float8 s = pf_group_sums(part, mid, lid, 6u);
   if (lid == 1u && g2 > 0u) history[slot_last] = s;
   if (lid == 2u && g2_prev > 0u) history[slot_prev] = s;
+#else
+  if (lid != 0u) return;
+  for (uint c = 0; c < g2; ++c) L2_scratch[c] = pf_partials_serial(L1_last, c * PF_WG, min(g1, (c + 1u) * PF_WG));
+  if (g2 > 0u) history[slot_last] = pf_partials_serial(L2_scratch, 0u, g2);
+  if (g2_prev > 0u) history[slot_prev] = pf_partials_serial(L2_prev, 0u, g2_prev);
+#endif
 }
 
 /* For tests: the indices of each particle's neighbours (pairs the step
@@ -576,8 +595,8 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 
 /* The whole update of one particle (see the top of the file), plus the
  * reductions in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
- * (nx, ny, nz, has_walls). Groups: at least max(ceil(n / PF_WG), g2 of
- * the last step, 1). L1_out / L2_out: this step's level-1 partials and the
+ * (nx, ny, nz, has_walls). Work-items: at least n, and a group for each
+ * level-2 partial of the last step. L1_out / L2_out: this step's level-1 partials and the
  * last step's level-2 ones; L1_prev: the last step's level-1 partials
  * (g1_prev; 0: none); L2_prev: the level-2 partials of the step before
  * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. */
@@ -590,8 +609,10 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
     __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
     const uint request_clear, const uint force_rebuild, const int4 sort_rows) {
+#if PF_GROUP_SUMS
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
+#endif
   const uint i = get_global_id(0), lid = get_local_id(0), group = get_group_id(0);
   if (i == 0) request[request_clear] = 0u;
   float8 record = (float8)(0.0f);
@@ -774,7 +795,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     record = pf_record(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), rebuilt, pairs,
                        (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
   }
-  /* the reductions: this step's group, the last step's level 1, the level 2 of the step before */
+  /* the reductions: this step's level 1, the last step's level 2, the step before's record */
+#if PF_GROUP_SUMS
   const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
   part[lid] = record;
   if (group < g2_prev) part[PF_WG + lid] = pf_partial_at(L1_prev, g1_prev, group * PF_WG, lid);
@@ -785,4 +807,12 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (lid == 0u && group < max((n + PF_WG - 1u) / PF_WG, 1u)) L1_out[group] = s;
   if (lid == 1u && group < g2_prev) L2_out[group] = s;
   if (lid == 2u && group == 0u && g2_prev2 > 0u) history[slot_prev2] = s;
+#else
+  if (i < max(n, 1u)) L1_out[i] = record; /* no particles: one empty record */
+  const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
+  /* chunk `group` by the group's first item, so that the chunks spread over the cores */
+  if (lid == 0u && group < g2_prev)
+    L2_out[group] = pf_partials_serial(L1_prev, group * PF_WG, min(g1_prev, (group + 1u) * PF_WG));
+  if (i == 0u && g2_prev2 > 0u) history[slot_prev2] = pf_partials_serial(L2_prev, 0u, g2_prev2);
+#endif
 }

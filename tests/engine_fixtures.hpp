@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <string>
 #include <random>
 #include <vector>
 
@@ -83,12 +84,13 @@ inline Device& shared_device() {
   return device;
 }
 
-/// Engine settings for a test: the defaults, with the pair loop that
-/// PFILL_TEST_PAIR_LANES names (1 or 8; unset: the device's own). ctest
-/// runs the engine tests once more with 1, so CI checks the GPU loop too.
+/// Engine settings for a test: the defaults, with the step form that
+/// PFILL_TEST_STEP_FORM names (cpu or gpu; unset: the device's own). ctest
+/// runs the engine tests once more with gpu, so CI checks that code too.
 inline EngineParams test_params() {
   EngineParams p;
-  if (const char* lanes = std::getenv("PFILL_TEST_PAIR_LANES")) p.pair_lanes = std::atoi(lanes);
+  if (const char* form = std::getenv("PFILL_TEST_STEP_FORM"))
+    p.step_form = std::string(form) == "gpu" ? StepForm::gpu : StepForm::cpu;
   return p;
 }
 

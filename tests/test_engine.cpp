@@ -267,9 +267,6 @@ TEST_CASE("engine: bad settings and bad particles are clear errors") {
   p.exponent_a = 6;
   p.exponent_b = 12;
   CHECK_THROWS_WITH_AS(Engine(shared_device(), p), doctest::Contains("a > b"), Error);
-  EngineParams lanes;
-  lanes.pair_lanes = 4;
-  CHECK_THROWS_WITH_AS(Engine(shared_device(), lanes), doctest::Contains("pair_lanes"), Error);
   EngineParams q;
   Engine engine(shared_device(), q);
   Particle big;

@@ -78,7 +78,7 @@ TEST_CASE("physics: energy drift stays bounded over 10,000 steps (restitution 1,
   CHECK(pe1 < 0.5 * pe0);  // still a bound, interacting droplet (pair energy negative)
   // The force jumps at the cutoff, so each pair crossing it adds a small
   // error of random sign: measured 4e-4 to 9e-3 of |pair energy| over six
-  // seeds and both pair loops (pair_lanes 8 and 1).
+  // seeds and both step forms (cpu and gpu).
   CHECK(std::fabs(e1 - e0) < 1.5e-2 * std::fabs(pe0));
 }
 

@@ -69,6 +69,7 @@ struct Engine::Impl {
   EngineParams params;
   EngineConstants constants;
   size_t group_size;  // PF_WG: the work-group of `advance` and `finalize_history` (before `program`)
+  bool gpu_form;      // EngineParams::step_form resolved for this device (before `program`)
   Program program;
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours;
 
@@ -94,8 +95,8 @@ struct Engine::Impl {
   // Per-step scalars in flight (see the top of engine.cl): level-1
   // partials of the last step, level-2 partials of the one before.
   cl::Buffer level1[2], level2[2], history;
-  size_t last_groups = 0;    // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
-  size_t before_groups = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
+  size_t level1_pending = 0;    // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
+  size_t level2_pending = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
   uint64_t steps = 0, history_read = 0;
   std::vector<StepRecord> backlog;
   std::vector<float> history_host;  // read-back staging, kept to avoid an allocation per read
@@ -103,6 +104,7 @@ struct Engine::Impl {
 
   Impl(Device& d, const EngineParams& p)
       : device(d), params(p), constants(checked_constants(d, p)), group_size(reduction_group(d, p)),
+        gpu_form(p.step_form == StepForm::automatic ? d.info().type != "CPU" : p.step_form == StepForm::gpu),
         program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", group_size);
     k_finalize = program.kernel("finalize_history", group_size);
@@ -162,12 +164,11 @@ struct Engine::Impl {
     const EngineConstants& c = constants;
     std::map<std::string, std::string> d = base_defines(c);
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
-    size_t root = 1;  // CPU devices: one serial run; GPUs: about sqrt(PF_WG), two short ones
-    if (device.info().type != "CPU")
-      while (4 * root * root <= group_size) root *= 2;
-    const int lanes = params.pair_lanes != 0 ? params.pair_lanes : device.info().type == "CPU" ? 8 : 1;
-    d["PF_PAIR_LANES"] = std::to_string(lanes);
-    d["PF_LIST_TILE"] = lanes == 8 ? "1u" : "32u";  // reserve() keeps the capacity a multiple of 32
+    size_t root = 1;  // about sqrt(PF_WG): two short serial runs
+    while (4 * root * root <= group_size) root *= 2;
+    d["PF_GROUP_SUMS"] = gpu_form ? "1" : "0";
+    d["PF_PAIR_LANES"] = gpu_form ? "1" : "8";
+    d["PF_LIST_TILE"] = gpu_form ? "32u" : "1u";  // reserve() keeps the capacity a multiple of 32
     d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (constants.force_cap * constants.list_capacity));
     d["PF_FIX_MAX"] = flt(16384 * constants.force_cap);
     d["PF_WG"] = std::to_string(group_size) + "u";
@@ -217,6 +218,8 @@ struct Engine::Impl {
   }
 
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
+  // Level-1 partials of a step of n particles: one a work-group, or one a particle.
+  size_t level1_count(size_t count) const { return std::max<size_t>(gpu_form ? groups_for(count) : count, 1); }
 
   // New buffers may reuse a freed buffer's handle: set every argument again.
   void forget_kernel_args() {
@@ -260,7 +263,7 @@ struct Engine::Impl {
     list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
     lists_valid = false;
     forget_kernel_args();
-    const size_t g1 = groups_for(cap) + 1, g2 = groups_for(g1) + 1;
+    const size_t g1 = level1_count(cap) + 1, g2 = groups_for(g1) + 1;
     for (auto& b : level1) b = device.make_buffer(g1 * kRecord * sizeof(float), "step partials (level 1)");
     for (auto& b : level2) b = device.make_buffer(g2 * kRecord * sizeof(float), "step partials (level 2)");
   }
@@ -321,14 +324,14 @@ struct Engine::Impl {
 
   // Finishes the reductions of the steps in flight (one work-group).
   void reduce_pending() {
-    if (last_groups == 0 && before_groups == 0) return;
+    if (level1_pending == 0 && level2_pending == 0) return;
     const size_t h = params.history_capacity;
     const int last = static_cast<int>((steps + 1) % 2), other = 1 - last;  // last = (steps - 1) % 2
-    k_finalize.set_args(level1[last], cl_uint(last_groups), level2[other], level2[last], cl_uint(before_groups),
+    k_finalize.set_args(level1[last], cl_uint(level1_pending), level2[other], level2[last], cl_uint(level2_pending),
                         history, cl_uint((steps + h - 1) % h), cl_uint((steps + h - 2) % h));
     run(k_finalize, group_size);
-    last_groups = 0;
-    before_groups = 0;
+    level1_pending = 0;
+    level2_pending = 0;
   }
 
   cl_int4 sort_rows() const {
@@ -347,11 +350,11 @@ struct Engine::Impl {
     insert_cells(stamp, force);
     const size_t h = params.history_capacity;
     const int now = static_cast<int>(steps % 2), last = 1 - now;
-    const size_t level2_groups = groups_for(last_groups);  // the last step's level-2 partials, made now
+    const size_t level2_now = groups_for(level1_pending);  // the last step's level-2 partials, made now
     auto set_step_args = [&](const auto& field) {
       k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv,
                       cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
-                      level1[last], cl_uint(last_groups), level2[now], level2[last], cl_uint(before_groups),
+                      level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
                       history, cl_uint((steps + h - 2) % h), lists,
                       list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
                       cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), sort_rows());
@@ -360,10 +363,10 @@ struct Engine::Impl {
       set_step_args(sdf_image);
     else
       set_step_args(sdf);
-    run(k_step, std::max<size_t>({n, level2_groups * group_size, 1}));
+    run(k_step, std::max<size_t>({n, level2_now * group_size, 1}));  // a group for each level-2 partial
     newcomers.clear();
-    before_groups = level2_groups;
-    last_groups = std::max<size_t>(groups_for(n), 1);
+    level2_pending = level2_now;
+    level1_pending = level1_count(n);
     lists_valid = true;
     cur = nxt;
     ++steps;

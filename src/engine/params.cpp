@@ -39,7 +39,6 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.skin_sigma > 0 && p.skin_sigma <= 2, "skin_sigma must be in (0, 2]");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
   require(p.work_group >= 1, "work_group must be >= 1");
-  require(p.pair_lanes == 0 || p.pair_lanes == 1 || p.pair_lanes == 8, "pair_lanes must be 0 (by device), 1 or 8");
 
   EngineConstants c;
   const double a = p.exponent_a, b = p.exponent_b;

@@ -10,6 +10,9 @@
 
 namespace pfill {
 
+/// How the step's kernels are written: see EngineParams::step_form.
+enum class StepForm { automatic, cpu, gpu };
+
 /// What the user sets. Lengths are in mesh units; a particle of radius
 /// `radius` has mass 1 (mass scales with volume, (r / radius)^3).
 struct EngineParams {
@@ -37,12 +40,14 @@ struct EngineParams {
   /// support, or a field larger than its 3D image limits, is a pfill::Error
   /// (no silent fallback: the setting is explicit).
   bool field_image = false;
-  /// The pair loop: 0 picks by device (8 on CPU devices, 1 elsewhere); 8:
-  /// eight list entries at a time as float8 vectors (PoCL turns them into
-  /// SIMD), each list row contiguous; 1: one entry at a time, the rows of 32
-  /// consecutive particles interleaved (a GPU warp reads them coalesced,
-  /// and the loop needs few registers). Same physics, same tests.
-  int pair_lanes = 0;
+  /// How the step's kernels are written (kernels/engine.cl): `cpu` pairs 8
+  /// list entries at a time as float8 vectors (PoCL turns them into SIMD),
+  /// keeps list rows contiguous and sums the per-step scalars one work-item
+  /// to a run (no barriers); `gpu` takes entries 4 at a time with one pair
+  /// per work-item, interleaves the rows of 32 particles (coalesced), sums
+  /// forces in fixed point and the scalars in work-groups. Same physics,
+  /// same tests; `automatic` picks by the device's type.
+  StepForm step_form = StepForm::automatic;
 };
 
 /// Everything derived from EngineParams (see derive_constants).
