@@ -123,6 +123,14 @@ uint pf_cell_count(__global const uint* counts, uint cell, uint stamp) {
   return (raw >> 8) == stamp ? (raw & PF_COUNT_MASK) : 0u;
 }
 
+/* The particles a list build can read from a cell: its count, at most
+ * PF_CELL_CAP (a cell that overflowed sets the overflow bit in *bits). */
+uint pf_cell_listed(__global const uint* counts, uint cell, uint stamp, uint* bits) {
+  const uint m = pf_cell_count(counts, cell, stamp);
+  if (m > PF_CELL_CAP) *bits |= PF_OVERFLOW_BIT;
+  return min(m, PF_CELL_CAP);
+}
+
 /* Adds particle i to a cell under `stamp`; a stale count restarts at zero. */
 void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint stamp, uint i, float4 x) {
   uint old = atomic_or(&counts[cell], 0u);
@@ -473,11 +481,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
-        uint m = pf_cell_count(counts, cell, stamp);
-        if (m > PF_CELL_CAP) {
-          *bits |= PF_OVERFLOW_BIT;
-          m = PF_CELL_CAP;
-        }
+        const uint m = pf_cell_listed(counts, cell, stamp, bits);
         __global const float* block = slots + cell * PF_BLOCK;
 #pragma unroll 4
         for (uint k = 0; k < m; ++k) {
@@ -522,11 +526,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
-        uint m = pf_cell_count(counts, cell, stamp);
-        if (m > PF_CELL_CAP) {
-          *bits |= PF_OVERFLOW_BIT;
-          m = PF_CELL_CAP;
-        }
+        const uint m = pf_cell_listed(counts, cell, stamp, bits);
         const uint cell_first = found;
         __global const float* block = slots + cell * PF_BLOCK;
         for (uint k = 0; k < m; k += 8u) {
