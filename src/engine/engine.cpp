@@ -95,7 +95,7 @@ struct Engine::Impl {
   // Per-step scalars in flight (see the top of engine.cl): level-1
   // partials of the last step, level-2 partials of the one before.
   cl::Buffer level1[2], level2[2], history;
-  size_t level1_pending = 0;    // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
+  size_t level1_pending = 0;  // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
   size_t level2_pending = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
   uint64_t steps = 0, history_read = 0;
   std::vector<StepRecord> backlog;
@@ -208,8 +208,9 @@ struct Engine::Impl {
     }
   }
 
-  // The work-group of the kernels that reduce in local memory: the
-  // preferred size, lowered to the device's limit, a power of two.
+  // The work-group of `advance` and `finalize_history` (PF_WG, also the
+  // chunk of the per-step sums): the preferred size, lowered to the
+  // device's limit, a power of two.
   static size_t reduction_group(const Device& device, const EngineParams& p) {
     const size_t limit = std::min(p.work_group, device.info().max_work_group);
     size_t g = 1;
