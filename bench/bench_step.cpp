@@ -202,21 +202,26 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   prof.kernel_times();
   prof.read_history();
   // Step by step, so that each step's update time pairs with whether it
-  // rebuilt the neighbour lists (the costly part on a rebuild step).
+  // rebuilt the neighbour lists (the costly part on a rebuild step); the
+  // history is read once at the end, as a run would.
   const size_t prof_steps = std::min<size_t>(steps, 200);
   std::map<std::string, double> totals;
-  double update_rebuild = 0, update_other = 0;
-  size_t rebuilds = 0;
+  std::vector<double> updates;
   for (size_t s = 0; s < prof_steps; ++s) {
     prof.run_steps(1);
     const auto times = prof.kernel_times();
     for (const auto& [name, seconds] : times) totals[name] += seconds;
-    const double update = times.count("advance") ? times.at("advance") : 0.0;
-    if (prof.read_history().back().lists_rebuilt) {
+    updates.push_back(times.count("advance") ? times.at("advance") : 0.0);
+  }
+  const std::vector<StepRecord> records = prof.read_history();
+  double update_rebuild = 0, update_other = 0;
+  size_t rebuilds = 0;
+  for (size_t s = 0; s < prof_steps && s < records.size(); ++s) {
+    if (records[s].lists_rebuilt) {
       ++rebuilds;
-      update_rebuild += update;
+      update_rebuild += updates[s];
     } else {
-      update_other += update;
+      update_other += updates[s];
     }
   }
   nlohmann::json kernels = nlohmann::json::object();

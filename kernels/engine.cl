@@ -32,7 +32,7 @@
  *
  * The pair loop takes 8 list entries at a time as float8 vectors on CPU
  * devices (PoCL turns them into SIMD) and one at a time on GPUs (see
- * PF_PAIR_LANES below).
+ * PF_GPU_FORM below).
  *
  * Per-step scalars (kinetic energy, speeds, counts: one float8 record a
  * particle, pf_record_merge combines two) are reduced without a launch of
@@ -41,11 +41,11 @@
  * PF_WG of them into level-2 partials (L2), and step t+2 sums those into
  * the HISTORY record of step t: kinetic energy, max speed, max
  * displacement, lists rebuilt (0/1), then as uints: colliding pairs,
- * flagged particles, cell-overflow hits, particle count. PF_GROUP_SUMS 1
+ * flagged particles, cell-overflow hits, particle count. With PF_GPU_FORM
  * (GPUs): L1 holds one sum a work-group, made in local memory, and the
  * chunk and final sums are group sums too (two levels: PF_WG_ROOT items sum
- * PF_WG / PF_WG_ROOT records each, then one item sums theirs). PF_GROUP_SUMS
- * 0 (CPU devices): L1 holds each particle's record, chunk c is the serial
+ * PF_WG / PF_WG_ROOT records each, then one item sums theirs). Without it
+ * (CPU devices): L1 holds each particle's record, chunk c is the serial
  * sum of group c's first item, and work-item 0 sums the L2 partials: no barrier,
  * which PoCL pays for in loop overhead. finalize_history finishes the (at
  * most two) steps still in flight by the same sums.
@@ -76,24 +76,21 @@
 #define PF_LIST_CAP 32u
 #define PF_WG 64u
 #define PF_WG_ROOT 8u
-#define PF_GROUP_SUMS 0
-#define PF_LIST_TILE 1u
-#define PF_PAIR_LANES 8
+#define PF_GPU_FORM 0
 #define PF_FIX_SCALE 1.0e9f
 #define PF_FIX_MAX 1.0e6f
 #endif
 
-/* The pair loop (EngineParams::step_form) and the list rows' layout go
- * together. PF_PAIR_LANES 8 (CPU devices): 8 list entries at a time as
- * float8 vectors, each row contiguous (PF_LIST_TILE 1). PF_PAIR_LANES 1
- * (GPUs): entries 4 at a time, and the rows of 32 consecutive particles
- * interleaved in groups of 4 entries (PF_LIST_TILE 32): entries 4q..4q+3
- * of the tile's 32 rows are 512 contiguous bytes, so a warp reading (or a
- * list build writing) 4 entries a work-item moves whole lines. PF_ROW(list,
- * i) is particle i's row, PF_AT(row, k) its entry k (each uses its
- * arguments twice: no side effects in them); capacities are multiples of
- * 32 particles and of 8 entries. */
-#if PF_LIST_TILE == 1
+/* EngineParams::step_form: PF_GPU_FORM 0 (CPU devices) pairs 8 list
+ * entries at a time as float8 vectors, with each list row contiguous.
+ * PF_GPU_FORM 1 (GPUs) takes entries 4 at a time, one pair per work-item,
+ * with the rows of 32 consecutive particles interleaved in groups of 4
+ * entries: entries 4q..4q+3 of the tile's 32 rows are 512 contiguous
+ * bytes, so a warp reading (or a list build writing) 4 entries a work-item
+ * moves whole lines. PF_ROW(list, i) is particle i's row, PF_AT(row, k) its
+ * entry k (each uses its arguments twice: no side effects in them);
+ * capacities are multiples of 32 particles and of 8 entries. */
+#if !PF_GPU_FORM
 #define PF_ROW(list, i) ((list) + (size_t)(i) * PF_LIST_CAP)
 #define PF_AT(row, k) ((row)[k])
 #else
@@ -365,7 +362,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_histor
     const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev) {
   const uint lid = get_local_id(0);
   const uint g2 = (g1 + PF_WG - 1u) / PF_WG;
-#if PF_GROUP_SUMS
+#if PF_GPU_FORM
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
   for (uint c = 0; c < g2; ++c) {
@@ -465,7 +462,7 @@ bool pf_cell_in_reach(float4 frac, int ox, int oy, int oz, float cell_inv) {
   return gap2 < 1.0001f * PF_RL2 * cell_inv * cell_inv;
 }
 
-#if PF_PAIR_LANES == 1
+#if PF_GPU_FORM
 /* Rebuilds particle i's neighbour list from the cells: indices j != i
  * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
  * more set the overflow bit in *bits). One candidate at a time, in the
@@ -483,7 +480,6 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
         const uint m = pf_cell_listed(counts, cell, stamp, bits);
         __global const float* block = slots + cell * PF_BLOCK;
-#pragma unroll 4
         for (uint k = 0; k < m; ++k) {
           const float dx = xi.x - block[PF_SLOT(k, 0u)], dy = xi.y - block[PF_SLOT(k, 1u)];
           const float dz = xi.z - block[PF_SLOT(k, 2u)];
@@ -540,7 +536,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
           if (hits == 0u) continue;
           const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj, near));
-          if (PF_LIST_TILE == 1u && found + 8u <= PF_LIST_CAP) {
+          if (found + 8u <= PF_LIST_CAP) {
             vstore8(sorted, 0, row + found);
           } else {
             uint js[8];
@@ -609,7 +605,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
     __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
     const uint request_clear, const uint force_rebuild, const int4 sort_rows) {
-#if PF_GROUP_SUMS
+#if PF_GPU_FORM
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
 #endif
@@ -633,11 +629,11 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     } else {
       count = min(list_count[i], PF_LIST_CAP);
       /* newcomers' lists were filled by atomics (birth_linked): sort them once */
-#if PF_PAIR_LANES == 8
+#if !PF_GPU_FORM
       if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
 #endif
     }
-#if PF_PAIR_LANES == 8
+#if !PF_GPU_FORM
     float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
     int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
     for (uint k = 0; k < count; k += 8u) {
@@ -796,7 +792,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
                        (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
   }
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */
-#if PF_GROUP_SUMS
+#if PF_GPU_FORM
   const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
   part[lid] = record;
   if (group < g2_prev) part[PF_WG + lid] = pf_partial_at(L1_prev, g1_prev, group * PF_WG, lid);

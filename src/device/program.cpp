@@ -46,9 +46,13 @@ Kernel Program::kernel(const std::string& name, size_t preferred_work_group) con
   size_t limit = 0;
   check_cl(k.getWorkGroupInfo(device_->device(), CL_KERNEL_WORK_GROUP_SIZE, &limit), "clGetKernelWorkGroupInfo", name);
   limit = std::min({limit, device_->info().max_work_group, preferred_work_group});
-  size_t work_group = 1;
-  while (work_group * 2 <= limit) work_group *= 2;
-  return Kernel(k, name, work_group);
+  return Kernel(k, name, floor_power_of_two(limit));
+}
+
+size_t floor_power_of_two(size_t n) {
+  size_t p = 1;
+  while (p <= n / 2) p *= 2;
+  return p;
 }
 
 void launch(Device& device, Kernel& kernel, size_t items, cl::Event* event) {

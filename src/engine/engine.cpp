@@ -166,9 +166,7 @@ struct Engine::Impl {
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
     size_t root = 1;  // about sqrt(PF_WG): two short serial runs
     while (4 * root * root <= group_size) root *= 2;
-    d["PF_GROUP_SUMS"] = gpu_form ? "1" : "0";
-    d["PF_PAIR_LANES"] = gpu_form ? "1" : "8";
-    d["PF_LIST_TILE"] = gpu_form ? "32u" : "1u";  // reserve() keeps the capacity a multiple of 32
+    d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
     d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (constants.force_cap * constants.list_capacity));
     d["PF_FIX_MAX"] = flt(16384 * constants.force_cap);
     d["PF_WG"] = std::to_string(group_size) + "u";
@@ -212,10 +210,7 @@ struct Engine::Impl {
   // chunk of the per-step sums): the preferred size, lowered to the
   // device's limit, a power of two.
   static size_t reduction_group(const Device& device, const EngineParams& p) {
-    const size_t limit = std::min(p.work_group, device.info().max_work_group);
-    size_t g = 1;
-    while (g * 2 <= limit) g *= 2;
-    return g;
+    return floor_power_of_two(std::min(p.work_group, device.info().max_work_group));
   }
 
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
@@ -565,17 +560,14 @@ std::vector<size_t> Engine::sort_by_cells() {
   const size_t n = m.n;
   std::vector<cl_float4> xs(n), vs(n);
   std::vector<cl_uint> flags(n);
-  std::vector<cl_float> clearance(n);
   auto& q = m.device.queue();
   if (n > 0) {
     check_cl(q.enqueueReadBuffer(m.X[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), xs.data()), "clEnqueueReadBuffer",
              "positions");
     check_cl(q.enqueueReadBuffer(m.V[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), vs.data()), "clEnqueueReadBuffer",
              "velocities");
-    check_cl(q.enqueueReadBuffer(m.flags, CL_FALSE, 0, n * sizeof(cl_uint), flags.data()), "clEnqueueReadBuffer",
+    check_cl(q.enqueueReadBuffer(m.flags, CL_TRUE, 0, n * sizeof(cl_uint), flags.data()), "clEnqueueReadBuffer",
              "flags");
-    check_cl(q.enqueueReadBuffer(m.clearance, CL_TRUE, 0, n * sizeof(cl_float), clearance.data()),
-             "clEnqueueReadBuffer", "clearance");
   }
   // Morton key of each particle's cell (clamped into the grid, as the kernels do).
   std::vector<std::pair<uint64_t, size_t>> keyed(n);
@@ -592,24 +584,23 @@ std::vector<size_t> Engine::sort_by_cells() {
   std::vector<size_t> order(n);
   std::vector<cl_float4> xs2(n), vs2(n);
   std::vector<cl_uint> flags2(n);
-  std::vector<cl_float> clearance2(n);
   for (size_t k = 0; k < n; ++k) {
     const size_t i = keyed[k].second;
     order[k] = i;
     xs2[k] = xs[i];
     vs2[k] = vs[i];
     flags2[k] = flags[i];
-    clearance2[k] = clearance[i];
   }
   if (n > 0) {
     check_cl(q.enqueueWriteBuffer(m.X[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), xs2.data()),
              "clEnqueueWriteBuffer", "positions");
     check_cl(q.enqueueWriteBuffer(m.V[m.cur], CL_FALSE, 0, n * sizeof(cl_float4), vs2.data()),
              "clEnqueueWriteBuffer", "velocities");
-    check_cl(q.enqueueWriteBuffer(m.flags, CL_FALSE, 0, n * sizeof(cl_uint), flags2.data()), "clEnqueueWriteBuffer",
+    check_cl(q.enqueueWriteBuffer(m.flags, CL_TRUE, 0, n * sizeof(cl_uint), flags2.data()), "clEnqueueWriteBuffer",
              "flags");
-    check_cl(q.enqueueWriteBuffer(m.clearance, CL_TRUE, 0, n * sizeof(cl_float), clearance2.data()),
-             "clEnqueueWriteBuffer", "clearance");
+    // Wall clearances are lower bounds, a cache: 0 makes the next step sample the field.
+    check_cl(q.enqueueFillBuffer(m.clearance, cl_float(0), 0, n * sizeof(cl_float)), "clEnqueueFillBuffer",
+             "clearance");
   }
   m.lists_valid = false;  // the next step rebuilds every list
   m.newcomers.clear();

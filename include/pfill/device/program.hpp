@@ -91,6 +91,9 @@ class Program {
   const Device* device_;
 };
 
+/// The largest power of two <= n (1 for n < 2): work-group sizes.
+size_t floor_power_of_two(size_t n);
+
 /// Enqueues `kernel` over `items` work-items (rounded up to whole
 /// work-groups; kernels check their index against their count). Never
 /// blocks. With `event`, the launch can be profiled. Errors name the kernel.
