@@ -4,9 +4,10 @@
  * two files compile without the prelude.
  *
  * State (float4 per particle): X = (position, radius), V = (velocity at the
- * half step, 1 / mass). The update is ONE launch of `advance`: it reads X
- * and V and writes X' and V', the other halves of ping-pong buffers, so no
- * work-item reads what another writes. Leapfrog (velocity Verlet written
+ * half step, 1 / mass). The update is `advance`: it reads X and V and
+ * writes X' and V', the other halves of ping-pong buffers, so no work-item
+ * reads what another writes. On GPUs it computes the pair forces itself;
+ * on CPU devices a launch of `pair_forces` before it does (see below). Leapfrog (velocity Verlet written
  * with half-step velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m,
  * F the pair forces plus the contact dashpots, x(t+1) = x(t) + dt u(t+1/2),
  * then the wall.
@@ -21,18 +22,25 @@
  *
  * Neighbour lists (Verlet, with a skin): each particle keeps the indices
  * of the particles within PF_RL of it (cutoff or contact reach, plus the
- * skin) when the list was built, and where it was (XREF). A step that moves
+ * skin) when the list was built, and where it was (XREF); on CPU devices
+ * each pair is in only one of its two particles' lists. A step that moves
  * any particle more than half the skin from XREF raises a request flag; the
  * next step then fills the cells (insert_cells, which returns at once
  * otherwise) and rebuilds every list from them (each work-item its own
  * list). Flags rotate over three words: a step reads one, raises the next,
  * clears the third. Births and removals while the lists are valid update
  * them in place (birth_linked, remove_linked); bulk additions and growth
- * force a rebuild. A step is therefore two launches, the first nearly empty.
+ * force a rebuild. A step is therefore two launches on GPUs (three on CPU
+ * devices), the first nearly empty.
  *
- * The pair loop takes 8 list entries at a time as float8 vectors on CPU
- * devices (PoCL turns them into SIMD) and one at a time on GPUs (see
- * PF_GPU_FORM below).
+ * Pair forces on CPU devices (PF_GPU_FORM 0): `pair_forces` computes each
+ * listed pair once and adds its force to both particles (Newton's third
+ * law: half the pair work of listing pairs twice), 8 list entries at a time
+ * as float8 vectors (PoCL turns them into SIMD). A few work-items (one per
+ * core) each take a block of particles and sum into a force buffer of
+ * their own, so nothing is written by two at once; `advance` adds the
+ * buffers up and zeroes them. On GPUs (PF_GPU_FORM 1) `advance` sums each
+ * particle's forces over its full list, one pair at a time.
  *
  * Per-step scalars (kinetic energy, speeds, counts: one float8 record a
  * particle, pf_record_merge combines two) are reduced without a launch of
@@ -217,6 +225,30 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
   return total;
 }
 
+/* any() of an 8-lane mask as two ORs and one test (PoCL makes four
+ * branches of any()). */
+bool pf_any8(int8 m) {
+  const int4 a = m.lo | m.hi;
+  const int2 b = a.lo | a.hi;
+  return (b.x | b.y) < 0;
+}
+
+/* The float4s X[jj.s0..s7] as four lane vectors (their x, y, z and w):
+ * 8 loads and a 4x4 transpose in each 128-bit half (element by element,
+ * PoCL spends a broadcast and a blend on each of the 32 lanes). */
+void pf_gather8(__global const float4* X, uint8 jj, float8* x, float8* y, float8* z, float8* w) {
+  const float8 a = (float8)(X[jj.s0], X[jj.s4]), b = (float8)(X[jj.s1], X[jj.s5]);
+  const float8 c = (float8)(X[jj.s2], X[jj.s6]), d = (float8)(X[jj.s3], X[jj.s7]);
+  const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
+  const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
+  const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
+  const float8 cd_hi = (float8)(c.s2, d.s2, c.s3, d.s3, c.s6, d.s6, c.s7, d.s7);
+  *x = (float8)(ab_lo.s01, cd_lo.s01, ab_lo.s45, cd_lo.s45);
+  *y = (float8)(ab_lo.s23, cd_lo.s23, ab_lo.s67, cd_lo.s67);
+  *z = (float8)(ab_hi.s01, cd_hi.s01, ab_hi.s45, cd_hi.s45);
+  *w = (float8)(ab_hi.s23, cd_hi.s23, ab_hi.s67, cd_hi.s67);
+}
+
 /* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
  * 1/d, with the prelude's constants (the same formula with the divisions
  * shared; the oracle tests tie the two). */
@@ -224,6 +256,7 @@ float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
   const float8 x = PF_SIGMA2 * inv_d2;
 #if PF_EXP_B_HALF > 0
   float8 sb = x;
+#pragma unroll
   for (int k = 1; k < PF_EXP_B_HALF; ++k) sb *= x;
 #else
   const float8 sb = pow(x, (float8)(0.5f * PF_EXP_B));
@@ -232,13 +265,15 @@ float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
   const float8 sa = sb * sb;
 #elif PF_EXP_A_HALF > 0
   float8 sa = x;
+#pragma unroll
   for (int k = 1; k < PF_EXP_A_HALF; ++k) sa *= x;
 #else
   const float8 sa = pow(x, (float8)(0.5f * PF_EXP_A));
 #endif
   const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) * inv_d2;
   const float8 k_max = PF_FORCE_CAP * inv_d;
-  return fmin(fmax(k, -k_max), k_max);
+  /* compares, not fmin / fmax: k is never NaN, and PoCL's fmin handles NaNs */
+  return select(select(k, k_max, k > k_max), -k_max, k < -k_max);
 }
 
 /* Lists every particle in the cells under `stamp`, on the steps whose
@@ -269,9 +304,10 @@ __kernel void birth_one(__global float4* X, __global float4* V, __global uint* f
  * built by (b's reference is where it is born): a pair left out can only
  * come within reach after drifts from the references of more than the skin
  * in all, which the rebuild test (each drift at most half the skin) rules
- * out. It takes a slot in b's list (list_count[b] is 0 beforehand); item n
- * writes the newcomer. A full list raises the rebuild request the next step
- * reads. */
+ * out. On GPUs it also takes a slot in b's list (list_count[b] is 0
+ * beforehand); on CPU devices, where each pair is in one list, b's list
+ * stays empty. Item n writes the newcomer. A full list raises the rebuild
+ * request the next step reads. */
 __kernel void birth_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
                            __global uint* list, __global uint* list_count, __global float4* XREF,
                            __global uint* request, const uint request_next, const uint n, const float4 x,
@@ -290,6 +326,16 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
   d.w = 0.0f;
   if (dot(d, d) >= PF_RL2) return;
   const uint mine = list_count[i];
+#if !PF_GPU_FORM
+  /* each pair in one list: the newcomer's stays empty */
+  if (mine < PF_LIST_CAP) {
+    PF_AT(PF_ROW(list, i), mine) = n;
+    list_count[i] = mine + 1u;
+  } else {
+    atomic_or(&request[request_next], 1u);
+  }
+  return;
+#endif
   const uint slot = atomic_inc(&list_count[n]);
   if (mine < PF_LIST_CAP && slot < PF_LIST_CAP) {
     PF_AT(PF_ROW(list, i), mine) = n;
@@ -502,9 +548,11 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   return found;
 }
 #else
-/* Rebuilds particle i's neighbour list from the cells: indices j != i
- * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
- * more set the overflow bit in *bits).
+/* Rebuilds particle i's neighbour list from the cells: the j with
+ * |x_i - x_j|^2 < PF_RL2 in i's own cell with j > i and in the 13
+ * neighbour cells after it, so that each pair is listed once (see
+ * pair_forces). Returns the count (capped at PF_LIST_CAP; more set the
+ * overflow bit in *bits).
  *
  * Order: cell by cell in a fixed order, each cell's neighbours ascending by
  * index. The cells list particles in the order their atomic insertions
@@ -520,7 +568,11 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
-        if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+        /* half the stencil: the cell itself (partners j > i) and the 13
+         * neighbours after it in (z, y, x) order; a pair of cells meets once */
+        const int offset = ((cz - c.z) * 3 + (cy - c.y)) * 3 + (cx - c.x);
+        if (offset < 0 || !pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+        const uint8 j_min = (uint8)(offset == 0 ? i + 1u : 0u);
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
         const uint m = pf_cell_listed(counts, cell, stamp, bits);
         const uint cell_first = found;
@@ -530,7 +582,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const float8 dx = xi.x - vload8(0, chunk), dy = xi.y - vload8(1, chunk), dz = xi.z - vload8(2, chunk);
           const uint8 jj = as_uint8(vload8(4, chunk));
           const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-          const int8 near = (lane < (int8)((int)m)) & (jj != (uint8)(i)) & (dx * dx + dy * dy + dz * dz < PF_RL2);
+          const int8 near = (lane < (int8)((int)m)) & (jj >= j_min) & (dx * dx + dy * dy + dz * dz < PF_RL2);
           /* counted as floats: oclgrind (1.x) mis-sums lanes of integer masks */
           const float8 hit = select((float8)(0.0f), (float8)(1.0f), near);
           const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
@@ -552,6 +604,122 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
     found = PF_LIST_CAP;
   }
   return found;
+}
+#endif
+
+#if !PF_GPU_FORM
+/* F[jj.sl] -= (gx, gy, gz, 0).sl for the 8 lanes: pf_gather8's transpose
+ * backwards, then one read-modify-write a lane (the lanes' indices differ,
+ * except lanes past a row's end, which point at the row's own particle
+ * with a zero force). */
+void pf_scatter_sub8(__global float4* F, uint8 jj, float8 gx, float8 gy, float8 gz) {
+  const float8 xy_lo = (float8)(gx.s0, gy.s0, gx.s1, gy.s1, gx.s4, gy.s4, gx.s5, gy.s5);
+  const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
+  const float8 z_lo = (float8)(gz.s0, 0.0f, gz.s1, 0.0f, gz.s4, 0.0f, gz.s5, 0.0f);
+  const float8 z_hi = (float8)(gz.s2, 0.0f, gz.s3, 0.0f, gz.s6, 0.0f, gz.s7, 0.0f);
+  F[jj.s0] -= (float4)(xy_lo.s01, z_lo.s01);
+  F[jj.s1] -= (float4)(xy_lo.s23, z_lo.s23);
+  F[jj.s4] -= (float4)(xy_lo.s45, z_lo.s45);
+  F[jj.s5] -= (float4)(xy_lo.s67, z_lo.s67);
+  F[jj.s2] -= (float4)(xy_hi.s01, z_hi.s01);
+  F[jj.s3] -= (float4)(xy_hi.s23, z_hi.s23);
+  F[jj.s6] -= (float4)(xy_hi.s45, z_hi.s45);
+  F[jj.s7] -= (float4)(xy_hi.s67, z_hi.s67);
+}
+
+/* The pairs in particle i's list (CPU form: each pair is in one of its
+ * two particles' lists), 8 entries at a time as float8 vectors: the force
+ * on each partner j is subtracted from F[j] at once (Newton's third law),
+ * and the force on i is returned, with w = the pairs that overlap. */
+float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count, __global const float4* X,
+                     __global const float4* V, __global float4* F) {
+  const float ri = xi.w, inv_mi = vi.w;
+  float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
+  int8 overlaps = (int8)(0); /* -1 per overlapping pair */
+  for (uint k = 0; k < count; k += 8u) {
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+    const int8 valid = lane < (int8)((int)count);
+    const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
+    float8 dx, dy, dz, rs;
+    pf_gather8(X, jj, &dx, &dy, &dz, &rs);
+    dx = xi.x - dx;
+    dy = xi.y - dy;
+    dz = xi.z - dz;
+    rs += ri;
+    float8 d2 = dx * dx + dy * dy + dz * dz;
+    const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
+    const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
+    if (!pf_any8(near)) continue;
+    d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
+    const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
+    if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
+      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
+      dy = select(dy, (float8)(0.0f), tiny);
+      dz = select(dz, (float8)(0.0f), tiny);
+      d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+    }
+    const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
+    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
+    float8 gx = kf * dx, gy = kf * dy, gz = kf * dz;
+    const int8 contact = near & (d2 < touch2);
+    if (pf_any8(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+      float8 vx, vy, vz, imj;
+      pf_gather8(V, jj, &vx, &vy, &vz, &imj);
+      const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+      const float8 un = (vi.x - vx) * nx + (vi.y - vy) * ny + (vi.z - vz) * nz;
+      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
+      gx += cf * nx;
+      gy += cf * ny;
+      gz += cf * nz;
+      overlaps += contact & (d2 < rs * rs);
+    }
+    fx += gx;
+    fy += gy;
+    fz += gz;
+    pf_scatter_sub8(F, jj, gx, gy, gz);
+  }
+  const int4 o4 = overlaps.lo + overlaps.hi;
+  const int2 o2 = o4.lo + o4.hi;
+  const float4 hx = fx.lo + fx.hi, hy = fy.lo + fy.hi, hz = fz.lo + fz.hi;
+  return (float4)(hx.x + hx.y + hx.z + hx.w, hy.x + hy.y + hy.z + hy.w, hz.x + hz.y + hz.z + hz.w,
+                  (float)(-(o2.x + o2.y)));
+}
+
+/* The pair forces of a step on CPU devices, before `advance` (which adds
+ * them up). Work-group w of W (one work-item each) takes particles
+ * [w B, (w + 1) B), B = ceil(n / W), in order, and sums forces into its own
+ * buffer F + w * force_stride only, so no two work-items write one word and
+ * the sums come out the same on every run. On the steps that rebuild the
+ * lists, each of those particles' lists is rebuilt first (pairs with j > i:
+ * each pair once); build_bits keeps the overflow bit for `advance`. */
+__kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
+    __global const float4* X, __global const float4* V, __global const uint* counts, __global const float* slots,
+    const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
+    __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
+    __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
+    const uint force_stride) {
+  const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
+  const uint end = min(n, (w + 1u) * per);
+  __global float4* Fw = F + (size_t)w * force_stride;
+  const uint rebuild = force_rebuild || request[request_read];
+  for (uint i = w * per; i < end; ++i) {
+    const float4 xi = X[i];
+    __global uint* row = PF_ROW(list, i);
+    uint count;
+    if (rebuild) {
+      const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
+      const float4 frac = (xi - cell_origin) * cell_inv - convert_float4(c);
+      uint bits = 0u;
+      count = pf_build_list(i, xi, counts, slots, stamp, c, frac, cell_inv.x, cell_dims, row, &bits);
+      list_count[i] = count;
+      XREF[i] = xi;
+      build_bits[i] = bits;
+    } else {
+      count = min(list_count[i], PF_LIST_CAP);
+    }
+    const float4 f = pf_row_forces(i, xi, V[i], row, count, X, V, Fw);
+    Fw[i] += f;
+  }
 }
 #endif
 
@@ -604,7 +772,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     const uint g1_prev, __global float8* L2_out, __global const float8* L2_prev, const uint g2_prev2,
     __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
     __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
-    const uint request_clear, const uint force_rebuild, const int4 sort_rows) {
+    const uint request_clear, const uint force_rebuild, __global float4* F, const uint force_groups,
+    const uint force_stride, __global const uint* build_bits) {
 #if PF_GPU_FORM
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
@@ -617,6 +786,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     const float4 vi = V[i];
     const float ri = xi.w, inv_mi = vi.w;
     uint bits = 0u, rebuilt = 0u;
+#if PF_GPU_FORM
     __global uint* row = PF_ROW(list, i);
     uint count;
     if (force_rebuild || request[request_read]) {
@@ -628,63 +798,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
       rebuilt = i == 0u;
     } else {
       count = min(list_count[i], PF_LIST_CAP);
-      /* newcomers' lists were filled by atomics (birth_linked): sort them once */
-#if !PF_GPU_FORM
-      if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
-#endif
     }
-#if !PF_GPU_FORM
-    float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
-    int8 overlaps = (int8)(0); /* -1 per overlapping pair with j > i */
-    for (uint k = 0; k < count; k += 8u) {
-      const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-      const int8 valid = lane < (int8)((int)count);
-      const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
-      const float4 p0 = X[jj.s0], p1 = X[jj.s1], p2 = X[jj.s2], p3 = X[jj.s3];
-      const float4 p4 = X[jj.s4], p5 = X[jj.s5], p6 = X[jj.s6], p7 = X[jj.s7];
-      float8 dx = xi.x - (float8)(p0.x, p1.x, p2.x, p3.x, p4.x, p5.x, p6.x, p7.x);
-      float8 dy = xi.y - (float8)(p0.y, p1.y, p2.y, p3.y, p4.y, p5.y, p6.y, p7.y);
-      float8 dz = xi.z - (float8)(p0.z, p1.z, p2.z, p3.z, p4.z, p5.z, p6.z, p7.z);
-      const float8 rs = ri + (float8)(p0.w, p1.w, p2.w, p3.w, p4.w, p5.w, p6.w, p7.w);
-      float8 d2 = dx * dx + dy * dy + dz * dz;
-      const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
-      const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
-      if (!any(near)) continue;
-      d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
-      const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
-      if (any(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
-        dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
-        dy = select(dy, (float8)(0.0f), tiny);
-        dz = select(dz, (float8)(0.0f), tiny);
-        d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
-      }
-      const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
-      const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
-      fx += kf * dx;
-      fy += kf * dy;
-      fz += kf * dz;
-      const int8 contact = near & (d2 < touch2);
-      if (any(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
-        const float4 q0 = V[jj.s0], q1 = V[jj.s1], q2 = V[jj.s2], q3 = V[jj.s3];
-        const float4 q4 = V[jj.s4], q5 = V[jj.s5], q6 = V[jj.s6], q7 = V[jj.s7];
-        const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-        const float8 un = (vi.x - (float8)(q0.x, q1.x, q2.x, q3.x, q4.x, q5.x, q6.x, q7.x)) * nx +
-                          (vi.y - (float8)(q0.y, q1.y, q2.y, q3.y, q4.y, q5.y, q6.y, q7.y)) * ny +
-                          (vi.z - (float8)(q0.z, q1.z, q2.z, q3.z, q4.z, q5.z, q6.z, q7.z)) * nz;
-        const float8 imj = (float8)(q0.w, q1.w, q2.w, q3.w, q4.w, q5.w, q6.w, q7.w);
-        const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
-        fx += cf * nx;
-        fy += cf * ny;
-        fz += cf * nz;
-        overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
-      }
-    }
-    const uint pairs = (uint)(-(overlaps.s0 + overlaps.s1 + overlaps.s2 + overlaps.s3 + overlaps.s4 + overlaps.s5 +
-                                overlaps.s6 + overlaps.s7));
-    const float4 force = (float4)(fx.s0 + fx.s1 + fx.s2 + fx.s3 + fx.s4 + fx.s5 + fx.s6 + fx.s7,
-                                  fy.s0 + fy.s1 + fy.s2 + fy.s3 + fy.s4 + fy.s5 + fy.s6 + fy.s7,
-                                  fz.s0 + fz.s1 + fz.s2 + fz.s3 + fz.s4 + fz.s5 + fz.s6 + fz.s7, 0.0f);
-#else
     /* one pair at a time (GPUs: few registers, many warps in flight),
      * physics.cl's scalar formulas; the forces sum in 64-bit fixed point
      * (PF_FIX_SCALE units), exact and so the same in any list order. A
@@ -738,6 +852,21 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
       }
     }
     const float4 force = (float4)((float)fx, (float)fy, (float)fz, 0.0f) * (1.0f / PF_FIX_SCALE);
+#else
+    /* pair_forces summed each pair's force into both particles' rows of
+     * the force buffers (w: overlapping pairs); add them up, zeroed for the
+     * next step */
+    if (force_rebuild || request[request_read]) {
+      bits |= build_bits[i];
+      rebuilt = i == 0u;
+    }
+    float4 force = (float4)(0.0f);
+    for (uint g = 0; g < force_groups; ++g) {
+      force += F[(size_t)g * force_stride + i];
+      F[(size_t)g * force_stride + i] = (float4)(0.0f);
+    }
+    const uint pairs = (uint)force.w;
+    force.w = 0.0f;
 #endif
     float4 u = vi;
     u.w = 0.0f;

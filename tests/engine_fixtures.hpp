@@ -91,6 +91,7 @@ inline EngineParams test_params() {
   EngineParams p;
   if (const char* form = std::getenv("PFILL_TEST_STEP_FORM"))
     p.step_form = std::string(form) == "gpu" ? StepForm::gpu : StepForm::cpu;
+  if (const char* buffers = std::getenv("PFILL_TEST_FORCE_BUFFERS")) p.force_buffers = std::stoul(buffers);
   return p;
 }
 

@@ -70,8 +70,11 @@ struct Engine::Impl {
   EngineConstants constants;
   size_t group_size;  // PF_WG: the work-group of `advance` and `finalize_history` (before `program`)
   bool gpu_form;      // EngineParams::step_form resolved for this device (before `program`)
+  // CPU form: pair_forces work-items, each with its own force buffer
+  // (EngineParams::force_buffers; set by reserve()).
+  size_t force_groups = 0;
   Program program;
-  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours;
+  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours, k_pairs;
 
   size_t n = 0, capacity = 0;
   int cur = 0;  // which half of X and V holds the current state
@@ -79,7 +82,9 @@ struct Engine::Impl {
   // Neighbour lists (see the top of engine.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
   bool lists_valid = false;  // false: the next step rebuilds every list
-  std::vector<int> newcomers;  // linked births since the last step: their lists get sorted (at most 4)
+  // CPU form: force_groups buffers of `capacity` forces (zero between
+  // steps), and the list build's overflow bits for `advance`.
+  cl::Buffer forces, build_bits;
   // Cells (filled only on steps that rebuild the lists): count words and slots.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
@@ -119,6 +124,7 @@ struct Engine::Impl {
     k_birth_linked = program.kernel("birth_linked", params.work_group);
     k_remove_linked = program.kernel("remove_linked", params.work_group);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
+    if (!gpu_form) k_pairs = program.kernel("pair_forces", 1);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
     rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
     check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
@@ -213,6 +219,15 @@ struct Engine::Impl {
     return floor_power_of_two(std::min(p.work_group, device.info().max_work_group));
   }
 
+  // EngineParams::force_buffers for `cap` particles (0 on GPUs): `advance`
+  // reads every buffer, so one per compute unit, at most 16 and 512 MiB.
+  size_t pair_force_groups(size_t cap) const {
+    if (gpu_form) return 0;
+    if (params.force_buffers > 0) return params.force_buffers;
+    const size_t by_memory = (size_t(512) << 20) / (cap * sizeof(cl_float4));
+    return std::clamp<size_t>(std::min<size_t>(device.info().compute_units, by_memory), 1, 16);
+  }
+
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
   // Level-1 partials of a step of n particles: one a work-group, or one a particle.
   size_t level1_count(size_t count) const { return std::max<size_t>(gpu_form ? groups_for(count) : count, 1); }
@@ -220,7 +235,7 @@ struct Engine::Impl {
   // New buffers may reuse a freed buffer's handle: set every argument again.
   void forget_kernel_args() {
     for (Kernel* k : {&k_step, &k_insert, &k_birth, &k_move, &k_birth_linked, &k_remove_linked, &k_finalize,
-                      &k_neighbours})
+                      &k_neighbours, &k_pairs})
       k->forget_args();
   }
 
@@ -257,6 +272,12 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "neighbour list counts");
     list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
+    force_groups = pair_force_groups(cap);
+    const size_t force_count = std::max<size_t>(force_groups * cap, 1);
+    forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
+    check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
+             "clEnqueueFillBuffer", "pair forces");
+    build_bits = device.make_buffer((gpu_form ? 1 : cap) * sizeof(cl_uint), "list build bits");
     lists_valid = false;
     forget_kernel_args();
     const size_t g1 = level1_count(cap) + 1, g2 = groups_for(g1) + 1;
@@ -330,13 +351,8 @@ struct Engine::Impl {
     level2_pending = 0;
   }
 
-  cl_int4 sort_rows() const {
-    int r[4] = {-1, -1, -1, -1};
-    for (size_t k = 0; k < newcomers.size() && k < 4; ++k) r[k] = newcomers[k];
-    return i4(r[0], r[1], r[2], r[3]);
-  }
-
-  // One step: the cells (only when lists will be rebuilt), then the update.
+  // One step: the cells (only when lists will be rebuilt), on CPU devices
+  // the pair forces, then the update.
   void step() {
     require_domain();
     if (steps - history_read >= params.history_capacity) drain_history();
@@ -344,6 +360,12 @@ struct Engine::Impl {
     const uint32_t stamp = new_stamp();
     const bool force = !lists_valid;
     insert_cells(stamp, force);
+    if (!gpu_form) {
+      k_pairs.set_args(X[cur], V[cur], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims, cl_uint(n),
+                       lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
+                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity));
+      run(k_pairs, force_groups);
+    }
     const size_t h = params.history_capacity;
     const int now = static_cast<int>(steps % 2), last = 1 - now;
     const size_t level2_now = groups_for(level1_pending);  // the last step's level-2 partials, made now
@@ -353,14 +375,14 @@ struct Engine::Impl {
                       level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
                       history, cl_uint((steps + h - 2) % h), lists,
                       list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
-                      cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), sort_rows());
+                      cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), forces, cl_uint(force_groups),
+                      cl_uint(capacity), build_bits);
     };
     if (params.field_image)
       set_step_args(sdf_image);
     else
       set_step_args(sdf);
     run(k_step, std::max<size_t>({n, level2_now * group_size, 1}));  // a group for each level-2 partial
-    newcomers.clear();
     level2_pending = level2_now;
     level1_pending = level1_count(n);
     lists_valid = true;
@@ -450,12 +472,11 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
-  if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
+  if (particles.size() == 1 && m.lists_valid) {  // link it into the lists in place
     m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                               m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
-    m.newcomers.push_back(static_cast<int>(first));
     m.n += 1;
     return first;
   }
@@ -493,11 +514,6 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                                  m.list_origins, cl_uint(m.n), cl_uint(idx));
       m.run(m.k_remove_linked, m.n);
-      // A newcomer's unsorted row moves with it from `last` to `idx`.
-      for (int& k : m.newcomers)
-        if (k == static_cast<int>(idx)) k = -1;
-      for (int& k : m.newcomers)
-        if (k == static_cast<int>(last)) k = static_cast<int>(idx);
     } else if (idx != last) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
@@ -603,7 +619,6 @@ std::vector<size_t> Engine::sort_by_cells() {
              "clearance");
   }
   m.lists_valid = false;  // the next step rebuilds every list
-  m.newcomers.clear();
   return order;
 }
 

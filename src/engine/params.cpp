@@ -39,6 +39,7 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.skin_sigma > 0 && p.skin_sigma <= 2, "skin_sigma must be in (0, 2]");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
   require(p.work_group >= 1, "work_group must be >= 1");
+  require(p.force_buffers <= 1024, "force_buffers must be <= 1024 (0: one per compute unit)");
 
   EngineConstants c;
   const double a = p.exponent_a, b = p.exponent_b;
