@@ -12,9 +12,11 @@
  * F the pair forces plus the contact dashpots, x(t+1) = x(t) + dt u(t+1/2),
  * then the wall.
  *
- * Cells: a uniform grid, at most PF_CELL_CAP particles a cell. A cell's
- * count word is (stamp << 8 | count); a count whose stamp is not the
- * current one reads as zero, so cells never need clearing. A cell's slots
+ * Cells: a uniform grid, at most PF_CELL_CAP particles a cell, filled
+ * only on the steps that rebuild the lists. Two sets of count words take
+ * turns by the step's parity (cell_base: 0 or the number of cells): a step
+ * that fills one set zeroes the other if the step before filled it, so
+ * an insertion is one atomic_inc on a zero count. A cell's slots
  * are one block of PF_CELL_CAP / 8 chunks, each of 5 rows of 8 floats
  * holding copies of 8 particles' x, y, z, radius and index (as uint bits),
  * so a list build reads 8 candidates at once as float8 vectors from 160
@@ -106,7 +108,6 @@
 #define PF_AT(row, k) ((row)[(size_t)((k) >> 2) * 128u + ((k) & 3u)])
 #endif
 
-#define PF_COUNT_MASK 0xFFu
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
 #define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
 /* Bits a step sets for a particle (pf_build_list, the wall). */
@@ -122,39 +123,25 @@ int4 pf_cell_of(float4 x, float4 origin, float4 inv_size, int4 dims) {
 
 uint pf_cell_index(int4 c, int4 dims) { return (uint)(c.x + dims.x * (c.y + dims.y * c.z)); }
 
-/* Number of particles listed in a cell under `stamp` (may exceed the cap). */
-uint pf_cell_count(__global const uint* counts, uint cell, uint stamp) {
-  const uint raw = counts[cell];
-  return (raw >> 8) == stamp ? (raw & PF_COUNT_MASK) : 0u;
-}
-
-/* The particles a list build can read from a cell: its count, at most
- * PF_CELL_CAP (a cell that overflowed sets the overflow bit in *bits). */
-uint pf_cell_listed(__global const uint* counts, uint cell, uint stamp, uint* bits) {
-  const uint m = pf_cell_count(counts, cell, stamp);
+/* The particles a list build can read from a cell (counts: this step's
+ * set): its count, at most PF_CELL_CAP (a cell that overflowed sets the
+ * overflow bit in *bits). */
+uint pf_cell_listed(__global const uint* counts, uint cell, uint* bits) {
+  const uint m = counts[cell];
   if (m > PF_CELL_CAP) *bits |= PF_OVERFLOW_BIT;
   return min(m, PF_CELL_CAP);
 }
 
-/* Adds particle i to a cell under `stamp`; a stale count restarts at zero. */
-void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint stamp, uint i, float4 x) {
-  uint old = atomic_or(&counts[cell], 0u);
-  for (;;) {
-    const uint count = (old >> 8) == stamp ? (old & PF_COUNT_MASK) : 0u;
-    const uint want = (stamp << 8) | min(count + 1u, PF_COUNT_MASK);
-    const uint seen = atomic_cmpxchg(&counts[cell], old, want);
-    if (seen == old) {
-      if (count < PF_CELL_CAP) {
-        __global float* block = slots + cell * PF_BLOCK;
-        block[PF_SLOT(count, 0u)] = x.x;
-        block[PF_SLOT(count, 1u)] = x.y;
-        block[PF_SLOT(count, 2u)] = x.z;
-        block[PF_SLOT(count, 3u)] = x.w;
-        block[PF_SLOT(count, 4u)] = as_float(i);
-      }
-      return;
-    }
-    old = seen;
+/* Adds particle i to a cell (counts: this step's set, zero beforehand). */
+void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint i, float4 x) {
+  const uint count = atomic_inc(&counts[cell]);
+  if (count < PF_CELL_CAP) {
+    __global float* block = slots + cell * PF_BLOCK;
+    block[PF_SLOT(count, 0u)] = x.x;
+    block[PF_SLOT(count, 1u)] = x.y;
+    block[PF_SLOT(count, 2u)] = x.z;
+    block[PF_SLOT(count, 3u)] = x.w;
+    block[PF_SLOT(count, 4u)] = as_float(i);
   }
 }
 
@@ -276,16 +263,25 @@ float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
   return select(select(k, k_max, k > k_max), -k_max, k < -k_max);
 }
 
-/* Lists every particle in the cells under `stamp`, on the steps whose
- * lists are rebuilt (force, or the last step raised request[request_read]);
- * otherwise returns at once. */
-__kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint stamp,
-                           const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
-                           __global const uint* request, const uint request_read, const uint force) {
-  const uint i = get_global_id(0);
-  if (i >= n || !(force || request[request_read])) return;
+/* Lists every particle in this step's cells (count words from cell_base
+ * on), on the steps whose lists are rebuilt (force, or the last step
+ * raised request[request_read]); first zeroes the other set of count
+ * words if the last step filled it (filled[] holds, by parity, whether
+ * the step that last used a set filled it). */
+__kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint cell_base,
+                           const uint cells, __global uint* filled, const float4 cell_origin, const float4 cell_inv,
+                           const int4 cell_dims, const uint n, __global const uint* request, const uint request_read,
+                           const uint force) {
+  const uint i = get_global_id(0), items = get_global_size(0);
+  const uint now = cell_base == 0u ? 0u : 1u, other_base = cells - cell_base;
+  const uint rebuild = force || request[request_read];
+  if (i == 0u) filled[now] = rebuild;
+  if (filled[1u - now])
+    for (uint c = i; c < cells; c += items) counts[other_base + c] = 0u;
+  if (i >= n || !rebuild) return;
   const float4 x = X[i];
-  pf_cell_insert(counts, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), stamp, i, x);
+  pf_cell_insert(counts + cell_base, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims),
+                 i, x);
 }
 
 /* One birth: writes particle `index` (the next step rebuilds the lists). */
@@ -435,7 +431,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_histor
 /* For tests: the indices of each particle's neighbours (pairs the step
  * considers: d^2 < max(rc^2, (r_i + r_j)^2)), at most max_out each. */
 __kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const float* slots,
-                              const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
+                              const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
                               const uint n, __global uint* out_count, __global uint* out, const uint max_out) {
   const uint i = get_global_id(0);
   if (i >= n) return;
@@ -448,7 +444,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
         const int4 cc = c + (int4)(dx, dy, dz, 0);
         if (any(cc.xyz < (int3)(0)) || any(cc.xyz >= cell_dims.xyz)) continue;
         const uint cell = pf_cell_index(cc, cell_dims);
-        const uint m = min(pf_cell_count(counts, cell, stamp), PF_CELL_CAP);
+        const uint m = min(counts[cell_base + cell], PF_CELL_CAP);
         for (uint k = 0; k < m; ++k) {
           const uint j = as_uint(slots[cell * PF_BLOCK + PF_SLOT(k, 4u)]);
           if (j == i) continue;
@@ -514,7 +510,7 @@ bool pf_cell_in_reach(float4 frac, int ox, int oy, int oz, float cell_inv) {
  * more set the overflow bit in *bits). One candidate at a time, in the
  * order the cells hold them, which varies run to run (atomic insertions):
  * this pair loop sums forces in fixed point, where order does not matter. */
-uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
+uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots,
                    int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
   uint4 pending = (uint4)(0u);
@@ -524,7 +520,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
-        const uint m = pf_cell_listed(counts, cell, stamp, bits);
+        const uint m = pf_cell_listed(counts, cell, bits);
         __global const float* block = slots + cell * PF_BLOCK;
         for (uint k = 0; k < m; ++k) {
           const float dx = xi.x - block[PF_SLOT(k, 0u)], dy = xi.y - block[PF_SLOT(k, 1u)];
@@ -561,7 +557,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
  * same particles. A chunk of 8 candidates is sorted in registers (the
  * lanes that are not neighbours become UINT_MAX and sort last) and stored
  * as one vector; a cell of more than 8 is sorted as a whole afterwards. */
-uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots, uint stamp,
+uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots,
                    int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
@@ -574,7 +570,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
         if (offset < 0 || !pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
         const uint8 j_min = (uint8)(offset == 0 ? i + 1u : 0u);
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
-        const uint m = pf_cell_listed(counts, cell, stamp, bits);
+        const uint m = pf_cell_listed(counts, cell, bits);
         const uint cell_first = found;
         __global const float* block = slots + cell * PF_BLOCK;
         for (uint k = 0; k < m; k += 8u) {
@@ -694,7 +690,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
  * each pair once); build_bits keeps the overflow bit for `advance`. */
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     __global const float4* X, __global const float4* V, __global const uint* counts, __global const float* slots,
-    const uint stamp, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
+    const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
     const uint force_stride) {
@@ -710,7 +706,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
       const float4 frac = (xi - cell_origin) * cell_inv - convert_float4(c);
       uint bits = 0u;
-      count = pf_build_list(i, xi, counts, slots, stamp, c, frac, cell_inv.x, cell_dims, row, &bits);
+      count = pf_build_list(i, xi, counts + cell_base, slots, c, frac, cell_inv.x, cell_dims, row, &bits);
       list_count[i] = count;
       XREF[i] = xi;
       build_bits[i] = bits;
@@ -766,7 +762,7 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
  * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
-    __global const uint* counts, __global const float* slots, const uint stamp, const float4 cell_origin,
+    __global const uint* counts, __global const float* slots, const uint cell_base, const float4 cell_origin,
     const float4 cell_inv, const int4 cell_dims, PF_FIELD_ARG sdf, const float4 sdf_origin, const int4 sdf_dims,
     __global uint* flags, __global float* C, const uint n, __global float8* L1_out, __global const float8* L1_prev,
     const uint g1_prev, __global float8* L2_out, __global const float8* L2_prev, const uint g2_prev2,
@@ -792,7 +788,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     if (force_rebuild || request[request_read]) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
       const float4 frac = (xi - cell_origin) * cell_inv - convert_float4(c);
-      count = pf_build_list(i, xi, counts, slots, stamp, c, frac, cell_inv.x, cell_dims, row, &bits);
+      count = pf_build_list(i, xi, counts + cell_base, slots, c, frac, cell_inv.x, cell_dims, row, &bits);
       list_count[i] = count;
       XREF[i] = xi;
       rebuilt = i == 0u;

@@ -19,7 +19,6 @@ namespace pfill {
 namespace {
 
 constexpr size_t kRecord = 8;           // floats per history / partial record (engine.cl PF_RECORD)
-constexpr uint32_t kStampLimit = 1u << 24;  // stamps live in the top 24 bits of a cell's count word
 
 std::string flt(double v) {
   std::ostringstream s;
@@ -90,8 +89,9 @@ struct Engine::Impl {
   cl_int4 cell_dims{};
   size_t cell_total = 0;
   bool have_domain = false;
-  cl::Buffer counts, slots;
-  uint32_t last_stamp = 0;
+  // Two sets of cell_total count words, used by the step's parity, and
+  // whether each was filled when last used (see insert_cells in engine.cl).
+  cl::Buffer counts, cells_filled, slots;
   // Field.
   cl::Buffer sdf;
   cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
@@ -302,40 +302,40 @@ struct Engine::Impl {
     cell_inv = f4(1 / cs, 1 / cs, 1 / cs, 0);
     cell_dims = i4(dims[0], dims[1], dims[2], 0);
     cell_total = static_cast<size_t>(total);
-    counts = device.make_buffer(cell_total * sizeof(cl_uint), "cell counts");
+    counts = device.make_buffer(2 * cell_total * sizeof(cl_uint), "cell counts");
+    cells_filled = device.make_buffer(2 * sizeof(cl_uint), "cells filled");
     const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
     slots = device.make_buffer(slot_bytes, "cell slots");
     // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
     check_cl(device.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
              "cell slots");
-    check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "cell counts");
-    last_stamp = 0;
+    clear_cells();
     have_domain = true;
     lists_valid = false;
     forget_kernel_args();
   }
 
-  // A stamp no count word holds yet; on wrap the counts are cleared.
-  uint32_t new_stamp() {
-    if (last_stamp + 1 >= kStampLimit) {
-      check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, cell_total * sizeof(cl_uint)),
-               "clEnqueueFillBuffer", "cell counts");
-      last_stamp = 0;
-    }
-    return ++last_stamp;
+  // Both sets of cell counts empty, neither marked filled.
+  void clear_cells() {
+    check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, 2 * cell_total * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "cell counts");
+    check_cl(device.queue().enqueueFillBuffer(cells_filled, cl_uint(0), 0, 2 * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "cells filled");
   }
+
+  // This step's set of cell counts: its first word.
+  cl_uint cell_base() const { return static_cast<cl_uint>((steps % 2) * cell_total); }
 
   void require_domain() const {
     if (!have_domain)
       throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
   }
 
-  // Lists X[cur] in the cells under `stamp` when `force` or when the list
+  // Lists X[cur] in this step's cells when `force` or when the list
   // rebuild request of the last step is raised (decided on the device).
-  void insert_cells(uint32_t stamp, bool force) {
-    k_insert.set_args(X[cur], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                      rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
+  void insert_cells(bool force) {
+    k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), cells_filled, cell_origin, cell_inv,
+                      cell_dims, cl_uint(n), rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
     run(k_insert, n);
   }
 
@@ -357,11 +357,10 @@ struct Engine::Impl {
     require_domain();
     if (steps - history_read >= params.history_capacity) drain_history();
     const int nxt = 1 - cur;
-    const uint32_t stamp = new_stamp();
     const bool force = !lists_valid;
-    insert_cells(stamp, force);
+    insert_cells(force);
     if (!gpu_form) {
-      k_pairs.set_args(X[cur], V[cur], counts, slots, cl_uint(stamp), cell_origin, cell_inv, cell_dims, cl_uint(n),
+      k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
                        lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
                        cl_uint(force ? 1 : 0), forces, cl_uint(capacity));
       run(k_pairs, force_groups);
@@ -370,7 +369,7 @@ struct Engine::Impl {
     const int now = static_cast<int>(steps % 2), last = 1 - now;
     const size_t level2_now = groups_for(level1_pending);  // the last step's level-2 partials, made now
     auto set_step_args = [&](const auto& field) {
-      k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cl_uint(stamp), cell_origin, cell_inv,
+      k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
                       cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
                       level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
                       history, cl_uint((steps + h - 2) % h), lists,
@@ -645,14 +644,14 @@ void Engine::finish() { impl_->device.finish(); }
 std::vector<std::vector<uint32_t>> Engine::neighbour_lists() {
   Impl& m = *impl_;
   m.require_domain();
-  const uint32_t stamp = m.new_stamp();
-  m.insert_cells(stamp, true);
+  m.insert_cells(true);
   const cl_uint max_out = 256;
   cl::Buffer counts = m.device.make_buffer(std::max<size_t>(m.n, 1) * sizeof(cl_uint), "neighbour counts");
   cl::Buffer lists = m.device.make_buffer(std::max<size_t>(m.n, 1) * max_out * sizeof(cl_uint), "neighbour lists");
-  m.k_neighbours.set_args(m.X[m.cur], m.counts, m.slots, cl_uint(stamp), m.cell_origin,
+  m.k_neighbours.set_args(m.X[m.cur], m.counts, m.slots, m.cell_base(), m.cell_origin,
                           m.cell_inv, m.cell_dims, cl_uint(m.n), counts, lists, max_out);
   m.run(m.k_neighbours, m.n);
+  m.clear_cells();  // as the steps expect them: this step's set empty
   std::vector<cl_uint> c(m.n), l(m.n * max_out);
   if (m.n > 0) {
     check_cl(m.device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, c.size() * sizeof(cl_uint), c.data()),
