@@ -176,6 +176,16 @@ TEST_CASE("engine: births one at a time, growth past the first capacity, removal
   CHECK(after[10].position == before[148].position);
   CHECK(after[3].position == before[147].position);
   CHECK(after[0].position == before[0].position);
+  // index_after_removal follows every particle the same way.
+  for (size_t i = 0; i < before.size(); ++i) {
+    const size_t now = Engine::index_after_removal(i, {3, 149, 10}, before.size());
+    if (i == 3 || i == 149 || i == 10) {
+      CHECK(now == Engine::kGone);
+    } else {
+      REQUIRE(now < after.size());
+      CHECK(after[now].position == before[i].position);
+    }
+  }
   // The neighbour lists were updated in place by the removals: the engine
   // still follows the reference.
   // (Compared after 3 steps too: a list left stale would be repaired by the

@@ -87,6 +87,7 @@ struct FillOptions {
   size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
   double skin = 0.5;            ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it)
   int sync_every = 8;           ///< steps between reads of the step history
+  int sort_every = 1024;        ///< steps between renumberings of the particles along the cells (0: never)
   std::string device;           ///< OpenCL device spec (index or name); "" = default
   std::function<void(const FillProgress&)> progress;
   /// Called with a snapshot every `frame_every` steps (for --frames).

@@ -524,6 +524,19 @@ void Engine::remove_particles(std::vector<size_t> indices) {
   }
 }
 
+size_t Engine::index_after_removal(size_t index, std::vector<size_t> removed, size_t count) {
+  std::sort(removed.begin(), removed.end(), std::greater<size_t>());
+  removed.erase(std::unique(removed.begin(), removed.end()), removed.end());
+  for (size_t idx : removed) {  // as remove_particles: largest first, each swapped with the last
+    const size_t last = --count;
+    if (index == idx)
+      index = kGone;
+    else if (index == last)
+      index = idx;
+  }
+  return index;
+}
+
 void Engine::run_steps(size_t k) {
   Impl& m = *impl_;
   for (size_t s = 0; s < k; ++s) m.step();

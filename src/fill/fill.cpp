@@ -186,6 +186,7 @@ class FillRun {
     need(o_.field_spacing > 0 && o_.field_spacing <= 2, "the field spacing must be in (0, 2] radii");
     need(o_.time_step > 0 && o_.time_step <= 0.05, "--time-step must be in (0, 0.05] tau");
     need(o_.sync_every >= 1 && o_.sync_every <= 1000, "sync_every must be 1..1000");
+    need(o_.sort_every >= 0, "sort_every must be >= 0 (0: never)");
   }
 
   // ---- pass 1: births until the object is overfull ----
@@ -392,6 +393,7 @@ class FillRun {
   /// Returns, per step of the batch, whether a particle was born before it.
   std::vector<bool> run_batch(bool births) {
     std::vector<bool> born(static_cast<size_t>(o_.sync_every), false);
+    if (o_.sort_every > 0 && engine_->steps_done() >= next_sort_) renumber_along_cells();
     for (int s = 0; s < o_.sync_every; ++s) {
       if (births && engine_->steps_done() % static_cast<uint64_t>(o_.birth_every) == 0 &&
           (phase_ != "pass 2" || engine_->size() < result_.max_parts))
@@ -404,6 +406,7 @@ class FillRun {
     if (flagged > 0) {
       const std::vector<size_t> out = flagged_of(*engine_);
       result_.lost_outside += out.size();
+      follow_newest_through_removals(out);
       engine_->remove_particles(out);
     }
     // Positions come back only for what needs them: the birth-room test and frames.
@@ -439,7 +442,7 @@ class FillRun {
       p.position = site.position;
       p.radius = radius_;
       p.velocity = random_direction() * (top_speed_ * (o_.birth_speed_min + (o_.birth_speed_max - o_.birth_speed_min) * speed_(rng_)));
-      engine_->add_particle(p);
+      newest_ = engine_->add_particle(p);
       newborns_.push_back({p.position, p.velocity, engine_->steps_done()});
       any = true;
     }
@@ -466,10 +469,29 @@ class FillRun {
     }
   }
 
-  /// The last index holds the newest particle unless a flagged removal has
-  /// since moved an older one there (removal swaps with the last): close enough.
+  /// Removes the newest particle (the report's "remove the last born");
+  /// when it is gone already (removed outside), the last index instead.
   void remove_newest() {
-    if (engine_->size() > 0) engine_->remove_particles({engine_->size() - 1});
+    if (engine_->size() == 0) return;
+    const size_t idx = newest_ < engine_->size() ? newest_ : engine_->size() - 1;
+    follow_newest_through_removals({idx});
+    engine_->remove_particles({idx});
+  }
+
+  /// Keeps newest_ pointing at the newest particle through removals.
+  void follow_newest_through_removals(const std::vector<size_t>& removed) {
+    newest_ = Engine::index_after_removal(newest_, removed, engine_->size());
+  }
+
+  /// Renumbers the particles along the cells (Engine::sort_by_cells): the
+  /// births scatter them through memory, and near in space near in memory
+  /// makes every kernel of a step read from cache (a fill of spot ran 40%
+  /// faster with this every 1,024 steps).
+  void renumber_along_cells() {
+    const std::vector<size_t> order = engine_->sort_by_cells();
+    if (newest_ != Engine::kGone)
+      newest_ = static_cast<size_t>(std::find(order.begin(), order.end(), newest_) - order.begin());
+    next_sort_ = engine_->steps_done() + static_cast<uint64_t>(o_.sort_every);
   }
 
   static std::vector<size_t> flagged_of(Engine& e) {
@@ -533,6 +555,8 @@ class FillRun {
   std::unique_ptr<Engine> relaxer_;  ///< damped, repulsive: holds the particles from the relief on
   std::vector<StepRecord> history_;
   std::vector<Vec3> snapshot_;
+  size_t newest_ = Engine::kGone;  // index of the last particle born (kGone: removed)
+  uint64_t next_sort_ = 0;     // step of the next renumbering along the cells
   struct Newborn {
     Vec3 position, velocity;
     uint64_t step;
