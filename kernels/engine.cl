@@ -14,9 +14,10 @@
  *
  * Cells: a uniform grid, at most PF_CELL_CAP particles a cell, filled
  * only on the steps that rebuild the lists. Two sets of count words take
- * turns by the step's parity (cell_base: 0 or the number of cells): a step
- * that fills one set zeroes the other if the step before filled it, so
- * an insertion is one atomic_inc on a zero count. A cell's slots
+ * turns by the step's parity (cell_base: 0 or the number of cells), so an
+ * insertion is one atomic_inc on a zero count: each step zeroes the cells
+ * the step before filled in the other set (the first particle into a cell
+ * notes it in `touched`). A cell's slots
  * are one block of PF_CELL_CAP / 8 chunks, each of 5 rows of 8 floats
  * holding copies of 8 particles' x, y, z, radius and index (as uint bits),
  * so a list build reads 8 candidates at once as float8 vectors from 160
@@ -130,19 +131,6 @@ uint pf_cell_listed(__global const uint* counts, uint cell, uint* bits) {
   const uint m = counts[cell];
   if (m > PF_CELL_CAP) *bits |= PF_OVERFLOW_BIT;
   return min(m, PF_CELL_CAP);
-}
-
-/* Adds particle i to a cell (counts: this step's set, zero beforehand). */
-void pf_cell_insert(__global uint* counts, __global float* slots, uint cell, uint i, float4 x) {
-  const uint count = atomic_inc(&counts[cell]);
-  if (count < PF_CELL_CAP) {
-    __global float* block = slots + cell * PF_BLOCK;
-    block[PF_SLOT(count, 0u)] = x.x;
-    block[PF_SLOT(count, 1u)] = x.y;
-    block[PF_SLOT(count, 2u)] = x.z;
-    block[PF_SLOT(count, 3u)] = x.w;
-    block[PF_SLOT(count, 4u)] = as_float(i);
-  }
 }
 
 /* A particle's record: (kinetic energy, speed, displacement, lists
@@ -265,23 +253,36 @@ float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
 
 /* Lists every particle in this step's cells (count words from cell_base
  * on), on the steps whose lists are rebuilt (force, or the last step
- * raised request[request_read]); first zeroes the other set of count
- * words if the last step filled it (filled[] holds, by parity, whether
- * the step that last used a set filled it). */
+ * raised request[request_read]). Also empties the cells the last step
+ * filled in the other set: by parity, touched[k] is the cell + 1 that
+ * particle k was first into (0: none) and touched_upto the particles the
+ * step listed (0 when it did not rebuild). */
 __kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint cell_base,
-                           const uint cells, __global uint* filled, const float4 cell_origin, const float4 cell_inv,
+                           const uint cells, __global uint* touched, __global uint* touched_upto,
+                           const uint touched_stride, const float4 cell_origin, const float4 cell_inv,
                            const int4 cell_dims, const uint n, __global const uint* request, const uint request_read,
                            const uint force) {
   const uint i = get_global_id(0), items = get_global_size(0);
-  const uint now = cell_base == 0u ? 0u : 1u, other_base = cells - cell_base;
+  const uint now = cell_base == 0u ? 0u : 1u, other = 1u - now, other_base = cells - cell_base;
   const uint rebuild = force || request[request_read];
-  if (i == 0u) filled[now] = rebuild;
-  if (filled[1u - now])
-    for (uint c = i; c < cells; c += items) counts[other_base + c] = 0u;
+  for (uint k = i; k < touched_upto[other]; k += items) {
+    const uint cell = touched[other * touched_stride + k];
+    if (cell != 0u) counts[other_base + cell - 1u] = 0u;
+  }
+  if (i == 0u) touched_upto[now] = rebuild ? n : 0u;
   if (i >= n || !rebuild) return;
   const float4 x = X[i];
-  pf_cell_insert(counts + cell_base, slots, pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims),
-                 i, x);
+  const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims);
+  const uint count = atomic_inc(&counts[cell_base + cell]);
+  touched[now * touched_stride + i] = count == 0u ? cell + 1u : 0u;
+  if (count < PF_CELL_CAP) {
+    __global float* block = slots + cell * PF_BLOCK;
+    block[PF_SLOT(count, 0u)] = x.x;
+    block[PF_SLOT(count, 1u)] = x.y;
+    block[PF_SLOT(count, 2u)] = x.z;
+    block[PF_SLOT(count, 3u)] = x.w;
+    block[PF_SLOT(count, 4u)] = as_float(i);
+  }
 }
 
 /* One birth: writes particle `index` (the next step rebuilds the lists). */

@@ -90,8 +90,9 @@ struct Engine::Impl {
   size_t cell_total = 0;
   bool have_domain = false;
   // Two sets of cell_total count words, used by the step's parity, and
-  // whether each was filled when last used (see insert_cells in engine.cl).
-  cl::Buffer counts, cells_filled, slots;
+  // by parity the cells each particle was first into and how many
+  // particles were listed: the next step empties them (insert_cells).
+  cl::Buffer counts, slots, touched, touched_upto;
   // Field.
   cl::Buffer sdf;
   cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
@@ -126,6 +127,7 @@ struct Engine::Impl {
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     if (!gpu_form) k_pairs = program.kernel("pair_forces", 1);
     history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
+    touched_upto = device.make_buffer(2 * sizeof(cl_uint), "cells to empty");
     rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
     check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "list rebuild requests");
@@ -278,6 +280,8 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
              "clEnqueueFillBuffer", "pair forces");
     build_bits = device.make_buffer((gpu_form ? 1 : cap) * sizeof(cl_uint), "list build bits");
+    touched = device.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
+    if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
     lists_valid = false;
     forget_kernel_args();
     const size_t g1 = level1_count(cap) + 1, g2 = groups_for(g1) + 1;
@@ -303,7 +307,6 @@ struct Engine::Impl {
     cell_dims = i4(dims[0], dims[1], dims[2], 0);
     cell_total = static_cast<size_t>(total);
     counts = device.make_buffer(2 * cell_total * sizeof(cl_uint), "cell counts");
-    cells_filled = device.make_buffer(2 * sizeof(cl_uint), "cells filled");
     const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
     slots = device.make_buffer(slot_bytes, "cell slots");
     // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
@@ -319,8 +322,8 @@ struct Engine::Impl {
   void clear_cells() {
     check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, 2 * cell_total * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "cell counts");
-    check_cl(device.queue().enqueueFillBuffer(cells_filled, cl_uint(0), 0, 2 * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "cells filled");
+    check_cl(device.queue().enqueueFillBuffer(touched_upto, cl_uint(0), 0, 2 * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "cells to empty");
   }
 
   // This step's set of cell counts: its first word.
@@ -334,8 +337,9 @@ struct Engine::Impl {
   // Lists X[cur] in this step's cells when `force` or when the list
   // rebuild request of the last step is raised (decided on the device).
   void insert_cells(bool force) {
-    k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), cells_filled, cell_origin, cell_inv,
-                      cell_dims, cl_uint(n), rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
+    k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), touched, touched_upto,
+                      cl_uint(capacity), cell_origin, cell_inv, cell_dims, cl_uint(n),
+                      rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
     run(k_insert, n);
   }
 
