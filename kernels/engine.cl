@@ -760,7 +760,10 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
  * level-2 partial of the last step. L1_out / L2_out: this step's level-1 partials and the
  * last step's level-2 ones; L1_prev: the last step's level-1 partials
  * (g1_prev; 0: none); L2_prev: the level-2 partials of the step before
- * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. */
+ * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. On GPUs
+ * the cells and lists are used here; on CPU devices pair_forces used them
+ * and left the forces in F (force_groups buffers, force_stride apart) and
+ * the list build's overflow bits in build_bits. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
     __global const uint* counts, __global const float* slots, const uint cell_base, const float4 cell_origin,

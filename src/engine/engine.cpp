@@ -318,7 +318,7 @@ struct Engine::Impl {
     forget_kernel_args();
   }
 
-  // Both sets of cell counts empty, neither marked filled.
+  // Both sets of cell counts empty, and nothing left for a step to empty.
   void clear_cells() {
     check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, 2 * cell_total * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "cell counts");
