@@ -13,10 +13,10 @@
 // cells first (Engine::sort_by_cells, as a large system should be; --no-sort
 // keeps the lattice's row order). Each line also gives the share of steps
 // that rebuilt the neighbour lists and the update's time on those and on
-// the others. --work-group, --force-buffers and --step-form (cpu, gpu) set
-// EngineParams' values.
+// the others. --work-group, --force-buffers, --newton (on, off) and
+// --step-form (cpu, gpu) set EngineParams' values.
 //
-//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--step-form cpu|gpu] [--no-sort] [--json FILE]
+//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -45,6 +45,7 @@ constexpr double kRadius = 0.5;
 constexpr double kPacking = 0.6;
 size_t work_group = EngineParams{}.work_group;  // --work-group
 size_t force_buffers = 0;                         // --force-buffers
+Newton newton = Newton::automatic;                // --newton on|off
 StepForm step_form = StepForm::automatic;        // --step-form
 bool sort_cells = true;                          // Engine::sort_by_cells after the bulk addition (--no-sort: off)
 
@@ -120,6 +121,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   p.field_image = field_image;
   p.work_group = work_group;
   p.force_buffers = force_buffers;
+  p.newton = newton;
   p.step_form = step_form;
   p.radius = kRadius;
   p.cutoff_sigma = c.cutoff_sigma;
@@ -270,6 +272,7 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
   p.field_image = field_image;
   p.work_group = work_group;
   p.force_buffers = force_buffers;
+  p.newton = newton;
   p.step_form = step_form;
   p.radius = kRadius;
   p.cutoff_sigma = 0;
@@ -392,13 +395,15 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--work-group") && i + 1 < argc) work_group = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--force-buffers") && i + 1 < argc)
       force_buffers = std::strtoul(argv[++i], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--newton") && i + 1 < argc)
+      newton = std::strcmp(argv[++i], "off") == 0 ? Newton::off : Newton::on;
     else if (!std::strcmp(argv[i], "--step-form") && i + 1 < argc)
       step_form = std::strcmp(argv[++i], "gpu") == 0 ? StepForm::gpu : StepForm::cpu;
     else if (!std::strcmp(argv[i], "--no-sort")) sort_cells = false;
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
       return 2;
     }
   }

@@ -25,8 +25,9 @@
  *
  * Neighbour lists (Verlet, with a skin): each particle keeps the indices
  * of the particles within PF_RL of it (cutoff or contact reach, plus the
- * skin) when the list was built, and where it was (XREF); on CPU devices
- * each pair is in only one of its two particles' lists. A step that moves
+ * skin) when the list was built, and where it was (XREF); with PF_NEWTON
+ * (CPU devices with few cores) each pair is in only one of its two
+ * particles' lists. A step that moves
  * any particle more than half the skin from XREF raises a request flag; the
  * next step then fills the cells (insert_cells, which returns at once
  * otherwise) and rebuilds every list from them (each work-item its own
@@ -36,14 +37,17 @@
  * force a rebuild. A step is therefore two launches on GPUs (three on CPU
  * devices), the first nearly empty.
  *
- * Pair forces on CPU devices (PF_GPU_FORM 0): `pair_forces` computes each
- * listed pair once and adds its force to both particles (Newton's third
- * law: half the pair work of listing pairs twice), 8 list entries at a time
- * as float8 vectors (PoCL turns them into SIMD). A few work-items (one per
- * core) each take a block of particles and sum into a force buffer of
- * their own, so nothing is written by two at once; `advance` adds the
- * buffers up and zeroes them. On GPUs (PF_GPU_FORM 1) `advance` sums each
- * particle's forces over its full list, one pair at a time.
+ * Pair forces on CPU devices (PF_GPU_FORM 0): `pair_forces`, 8 list
+ * entries at a time as float8 vectors (PoCL turns them into SIMD). With
+ * PF_NEWTON it computes each listed pair once and adds its force to both
+ * particles (Newton's third law: half the pair work of listing pairs
+ * twice): a few work-items (one per core) each take a block of particles
+ * and sum into a force buffer of their own, so nothing is written by two
+ * at once; `advance` adds the buffers up and zeroes them. That costs
+ * `advance` a read of every buffer for every particle, so on many cores
+ * (EngineParams::newton) each pair is listed twice instead and pair_forces
+ * writes each particle's force once. On GPUs (PF_GPU_FORM 1) `advance`
+ * sums each particle's forces over its full list, one pair at a time.
  *
  * Per-step scalars (kinetic energy, speeds, counts: one float8 record a
  * particle, pf_record_merge combines two) are reduced without a launch of
@@ -88,6 +92,7 @@
 #define PF_WG 64u
 #define PF_WG_ROOT 8u
 #define PF_GPU_FORM 0
+#define PF_NEWTON 1
 #define PF_FIX_SCALE 1.0e9f
 #define PF_FIX_MAX 1.0e6f
 #endif
@@ -323,7 +328,7 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
   d.w = 0.0f;
   if (dot(d, d) >= PF_RL2) return;
   const uint mine = list_count[i];
-#if !PF_GPU_FORM
+#if !PF_GPU_FORM && PF_NEWTON
   /* each pair in one list: the newcomer's stays empty */
   if (mine < PF_LIST_CAP) {
     PF_AT(PF_ROW(list, i), mine) = n;
@@ -545,11 +550,11 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   return found;
 }
 #else
-/* Rebuilds particle i's neighbour list from the cells: the j with
- * |x_i - x_j|^2 < PF_RL2 in i's own cell with j > i and in the 13
- * neighbour cells after it, so that each pair is listed once (see
- * pair_forces). Returns the count (capped at PF_LIST_CAP; more set the
- * overflow bit in *bits).
+/* Rebuilds particle i's neighbour list from the cells: the j != i with
+ * |x_i - x_j|^2 < PF_RL2; with PF_NEWTON only those in i's own cell with
+ * j > i and in the 13 neighbour cells after it, so that each pair is
+ * listed once (see pair_forces). Returns the count (capped at PF_LIST_CAP;
+ * more set the overflow bit in *bits).
  *
  * Order: cell by cell in a fixed order, each cell's neighbours ascending by
  * index. The cells list particles in the order their atomic insertions
@@ -565,11 +570,14 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
+        if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+#if PF_NEWTON
         /* half the stencil: the cell itself (partners j > i) and the 13
          * neighbours after it in (z, y, x) order; a pair of cells meets once */
         const int offset = ((cz - c.z) * 3 + (cy - c.y)) * 3 + (cx - c.x);
-        if (offset < 0 || !pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+        if (offset < 0) continue;
         const uint8 j_min = (uint8)(offset == 0 ? i + 1u : 0u);
+#endif
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
         const uint m = pf_cell_listed(counts, cell, bits);
         const uint cell_first = found;
@@ -579,7 +587,12 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const float8 dx = xi.x - vload8(0, chunk), dy = xi.y - vload8(1, chunk), dz = xi.z - vload8(2, chunk);
           const uint8 jj = as_uint8(vload8(4, chunk));
           const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-          const int8 near = (lane < (int8)((int)m)) & (jj >= j_min) & (dx * dx + dy * dy + dz * dz < PF_RL2);
+#if PF_NEWTON
+          const int8 partner = jj >= j_min;
+#else
+          const int8 partner = jj != (uint8)(i);
+#endif
+          const int8 near = (lane < (int8)((int)m)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
           /* counted as floats: oclgrind (1.x) mis-sums lanes of integer masks */
           const float8 hit = select((float8)(0.0f), (float8)(1.0f), near);
           const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
@@ -624,10 +637,11 @@ void pf_scatter_sub8(__global float4* F, uint8 jj, float8 gx, float8 gy, float8 
   F[jj.s7] -= (float4)(xy_hi.s67, z_hi.s67);
 }
 
-/* The pairs in particle i's list (CPU form: each pair is in one of its
- * two particles' lists), 8 entries at a time as float8 vectors: the force
- * on each partner j is subtracted from F[j] at once (Newton's third law),
- * and the force on i is returned, with w = the pairs that overlap. */
+/* The pairs in particle i's list, 8 entries at a time as float8 vectors.
+ * Returns the force on i, with w = the overlapping pairs it counts. With
+ * PF_NEWTON (each pair in one of its two particles' lists) the force on
+ * each partner j is also subtracted from F[j] (Newton's third law) and
+ * every listed overlap counts; without, only those with j > i. */
 float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count, __global const float4* X,
                      __global const float4* V, __global float4* F) {
   const float ri = xi.w, inv_mi = vi.w;
@@ -668,12 +682,18 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
       gx += cf * nx;
       gy += cf * ny;
       gz += cf * nz;
+#if PF_NEWTON
       overlaps += contact & (d2 < rs * rs);
+#else
+      overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
+#endif
     }
     fx += gx;
     fy += gy;
     fz += gz;
+#if PF_NEWTON
     pf_scatter_sub8(F, jj, gx, gy, gz);
+#endif
   }
   const int4 o4 = overlaps.lo + overlaps.hi;
   const int2 o2 = o4.lo + o4.hi;
@@ -684,20 +704,23 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
 
 /* The pair forces of a step on CPU devices, before `advance` (which adds
  * them up). Work-group w of W (one work-item each) takes particles
- * [w B, (w + 1) B), B = ceil(n / W), in order, and sums forces into its own
- * buffer F + w * force_stride only, so no two work-items write one word and
- * the sums come out the same on every run. On the steps that rebuild the
- * lists, each of those particles' lists is rebuilt first (pairs with j > i:
- * each pair once); build_bits keeps the overflow bit for `advance`. */
+ * [w B, (w + 1) B), B = ceil(n / W), in order. With PF_NEWTON it sums
+ * forces into its own buffer F + w * force_stride only (a few work-items,
+ * one per core), so no two work-items write one word and the sums come out
+ * the same on every run; without, it writes its particles' forces into F.
+ * On the steps that rebuild the lists, each of those particles' lists is
+ * rebuilt first; build_bits keeps the overflow bit for `advance`. Rows
+ * filled by birth_linked's atomics (at most 4 newcomers, in sort_rows)
+ * are sorted first, so that forces sum in one order. */
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     __global const float4* X, __global const float4* V, __global const uint* counts, __global const float* slots,
     const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
-    const uint force_stride) {
+    const uint force_stride, const int4 sort_rows) {
   const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
   const uint end = min(n, (w + 1u) * per);
-  __global float4* Fw = F + (size_t)w * force_stride;
+  __global float4* Fw = PF_NEWTON ? F + (size_t)w * force_stride : F;
   const uint rebuild = force_rebuild || request[request_read];
   for (uint i = w * per; i < end; ++i) {
     const float4 xi = X[i];
@@ -713,6 +736,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       build_bits[i] = bits;
     } else {
       count = min(list_count[i], PF_LIST_CAP);
+      if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
     }
     const float4 f = pf_row_forces(i, xi, V[i], row, count, X, V, Fw);
     Fw[i] += f;

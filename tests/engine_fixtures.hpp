@@ -92,6 +92,8 @@ inline EngineParams test_params() {
   if (const char* form = std::getenv("PFILL_TEST_STEP_FORM"))
     p.step_form = std::string(form) == "gpu" ? StepForm::gpu : StepForm::cpu;
   if (const char* buffers = std::getenv("PFILL_TEST_FORCE_BUFFERS")) p.force_buffers = std::stoul(buffers);
+  if (const char* newton = std::getenv("PFILL_TEST_NEWTON"))
+    p.newton = std::string(newton) == "off" ? Newton::off : Newton::on;
   return p;
 }
 

@@ -69,8 +69,9 @@ struct Engine::Impl {
   EngineConstants constants;
   size_t group_size;  // PF_WG: the work-group of `advance` and `finalize_history` (before `program`)
   bool gpu_form;      // EngineParams::step_form resolved for this device (before `program`)
-  // CPU form: pair_forces work-items, each with its own force buffer
-  // (EngineParams::force_buffers; set by reserve()).
+  bool newton;        // EngineParams::newton resolved (before `program`)
+  // Force buffers `advance` adds up: with Newton, one per pair_forces
+  // work-item (EngineParams::force_buffers; set by reserve()); else 1 (0 on GPUs).
   size_t force_groups = 0;
   Program program;
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours, k_pairs;
@@ -81,6 +82,7 @@ struct Engine::Impl {
   // Neighbour lists (see the top of engine.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
   bool lists_valid = false;  // false: the next step rebuilds every list
+  std::vector<int> newcomers;  // linked births since the last step: their rows get sorted (at most 4)
   // CPU form: force_groups buffers of `capacity` forces (zero between
   // steps), and the list build's overflow bits for `advance`.
   cl::Buffer forces, build_bits;
@@ -111,6 +113,7 @@ struct Engine::Impl {
   Impl(Device& d, const EngineParams& p)
       : device(d), params(p), constants(checked_constants(d, p)), group_size(reduction_group(d, p)),
         gpu_form(p.step_form == StepForm::automatic ? d.info().type != "CPU" : p.step_form == StepForm::gpu),
+        newton(!gpu_form && (p.newton == Newton::automatic ? d.info().compute_units <= 4 : p.newton == Newton::on)),
         program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", group_size);
     k_finalize = program.kernel("finalize_history", group_size);
@@ -175,6 +178,7 @@ struct Engine::Impl {
     size_t root = 1;  // about sqrt(PF_WG): two short serial runs
     while (4 * root * root <= group_size) root *= 2;
     d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
+    d["PF_NEWTON"] = newton ? "1" : "0";
     d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (constants.force_cap * constants.list_capacity));
     d["PF_FIX_MAX"] = flt(16384 * constants.force_cap);
     d["PF_WG"] = std::to_string(group_size) + "u";
@@ -221,13 +225,23 @@ struct Engine::Impl {
     return floor_power_of_two(std::min(p.work_group, device.info().max_work_group));
   }
 
-  // EngineParams::force_buffers for `cap` particles (0 on GPUs): `advance`
-  // reads every buffer, so one per compute unit, at most 16 and 512 MiB.
+  // The force buffers for `cap` particles: with Newton
+  // EngineParams::force_buffers, or one per compute unit within 512 MiB.
   size_t pair_force_groups(size_t cap) const {
     if (gpu_form) return 0;
+    if (!newton) return 1;
     if (params.force_buffers > 0) return params.force_buffers;
     const size_t by_memory = (size_t(512) << 20) / (cap * sizeof(cl_float4));
     return std::clamp<size_t>(std::min<size_t>(device.info().compute_units, by_memory), 1, 16);
+  }
+
+  // pair_forces work-items: with Newton one per force buffer, else one per 64 particles.
+  size_t pair_items() const { return newton ? force_groups : std::max<size_t>(1, (n + 63) / 64); }
+
+  cl_int4 sort_rows() const {
+    int r[4] = {-1, -1, -1, -1};
+    for (size_t k = 0; k < newcomers.size() && k < 4; ++k) r[k] = newcomers[k];
+    return i4(r[0], r[1], r[2], r[3]);
   }
 
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
@@ -366,8 +380,8 @@ struct Engine::Impl {
     if (!gpu_form) {
       k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
                        lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
-                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity));
-      run(k_pairs, force_groups);
+                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows());
+      run(k_pairs, pair_items());
     }
     const size_t h = params.history_capacity;
     const int now = static_cast<int>(steps % 2), last = 1 - now;
@@ -386,6 +400,7 @@ struct Engine::Impl {
     else
       set_step_args(sdf);
     run(k_step, std::max<size_t>({n, level2_now * group_size, 1}));  // a group for each level-2 partial
+    newcomers.clear();
     level2_pending = level2_now;
     level1_pending = level1_count(n);
     lists_valid = true;
@@ -475,11 +490,12 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
-  if (particles.size() == 1 && m.lists_valid) {  // link it into the lists in place
+  if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
     m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                               m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
+    m.newcomers.push_back(static_cast<int>(first));
     m.n += 1;
     return first;
   }
@@ -517,6 +533,11 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                                  m.list_origins, cl_uint(m.n), cl_uint(idx));
       m.run(m.k_remove_linked, m.n);
+      // A newcomer's unsorted row moves with it from `last` to `idx`.
+      for (int& k : m.newcomers)
+        if (k == static_cast<int>(idx)) k = -1;
+      for (int& k : m.newcomers)
+        if (k == static_cast<int>(last)) k = static_cast<int>(idx);
     } else if (idx != last) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
@@ -635,6 +656,7 @@ std::vector<size_t> Engine::sort_by_cells() {
              "clearance");
   }
   m.lists_valid = false;  // the next step rebuilds every list
+  m.newcomers.clear();
   return order;
 }
 

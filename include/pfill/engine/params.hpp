@@ -12,6 +12,8 @@ namespace pfill {
 
 /// How the step's kernels are written: see EngineParams::step_form.
 enum class StepForm { automatic, cpu, gpu };
+/// Whether the `cpu` form lists each pair once: see EngineParams::newton.
+enum class Newton { automatic, on, off };
 
 /// What the user sets. Lengths are in mesh units; a particle of radius
 /// `radius` has mass 1 (mass scales with volume, (r / radius)^3).
@@ -40,21 +42,25 @@ struct EngineParams {
   /// support, or a field larger than its 3D image limits, is a pfill::Error
   /// (no silent fallback: the setting is explicit).
   bool field_image = false;
-  /// How the step's kernels are written (kernels/engine.cl): `cpu` lists
-  /// each pair once and applies its force to both particles (Newton's
-  /// third law, half the pair work), 8 list entries at a time as float8
-  /// vectors (PoCL turns them into SIMD), in a kernel of its own whose
-  /// work-items each sum into a force buffer of their own, and sums the
-  /// per-step scalars one work-item to a run (no barriers); `gpu` lists
-  /// each pair twice, takes entries 4 at a time with one pair per
-  /// work-item, interleaves the rows of 32 particles (coalesced), sums
-  /// forces in fixed point and the scalars in work-groups. Same physics,
-  /// same tests; `automatic` picks by the device's type.
+  /// How the step's kernels are written (kernels/engine.cl): `cpu` takes 8
+  /// list entries at a time as float8 vectors (PoCL turns them into SIMD)
+  /// in a kernel of its own (pair_forces) and sums the per-step scalars one
+  /// work-item to a run (no barriers); `gpu` takes entries 4 at a time with
+  /// one pair per work-item, interleaves the rows of 32 particles
+  /// (coalesced), sums forces in fixed point and the scalars in
+  /// work-groups. Same physics, same tests; `automatic` picks by the
+  /// device's type.
   StepForm step_form = StepForm::automatic;
-  /// `cpu` form: how many work-items compute the pair forces, each over a
-  /// block of particles and into a force buffer of its own (capacity x 16
-  /// bytes). 0: one per compute unit, at most 16, and fewer where the
-  /// buffers would pass 512 MiB. Results depend on it (summation order).
+  /// `cpu` form: list each pair once and apply its force to both particles
+  /// (Newton's third law: half the pair work). Each pair_forces work-item
+  /// then sums into a force buffer of its own, which `advance` adds up for
+  /// every particle: worth it on few cores, not on many. `automatic`: on
+  /// with at most 4 compute units. `gpu` form: always off.
+  Newton newton = Newton::automatic;
+  /// With Newton on: how many work-items compute the pair forces, each over
+  /// a block of particles and into a force buffer of its own (capacity x 16
+  /// bytes). 0: one per compute unit, and fewer where the buffers would
+  /// pass 512 MiB. Results depend on it (summation order).
   size_t force_buffers = 0;
 };
 
