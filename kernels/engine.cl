@@ -213,12 +213,14 @@ bool pf_any8(int8 m) {
   return (b.x | b.y) < 0;
 }
 
-/* The float4s X[jj.s0..s7] as four lane vectors (their x, y, z and w):
+/* The float4s X[row[0..7]] as four lane vectors (their x, y, z and w):
  * 8 loads and a 4x4 transpose in each 128-bit half (element by element,
- * PoCL spends a broadcast and a blend on each of the 32 lanes). */
-void pf_gather8(__global const float4* X, uint8 jj, float8* x, float8* y, float8* z, float8* w) {
-  const float8 a = (float8)(X[jj.s0], X[jj.s4]), b = (float8)(X[jj.s1], X[jj.s5]);
-  const float8 c = (float8)(X[jj.s2], X[jj.s6]), d = (float8)(X[jj.s3], X[jj.s7]);
+ * PoCL spends a broadcast and a blend on each of the 32 lanes). The
+ * indices are read from memory as scalars: taking them out of a vector
+ * costs more instructions. */
+void pf_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
+  const float8 a = (float8)(X[row[0]], X[row[4]]), b = (float8)(X[row[1]], X[row[5]]);
+  const float8 c = (float8)(X[row[2]], X[row[6]]), d = (float8)(X[row[3]], X[row[7]]);
   const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
   const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
   const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
@@ -599,7 +601,8 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           if (hits == 0u) continue;
           const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj, near));
           if (found + 8u <= PF_LIST_CAP) {
-            vstore8(sorted, 0, row + found);
+            /* the non-neighbours sorted last become i: a row holds indices only */
+            vstore8(select((uint8)(i), sorted, sorted != (uint8)(UINT_MAX)), 0, row + found);
           } else {
             uint js[8];
             vstore8(sorted, 0, js);
@@ -618,23 +621,23 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
 #endif
 
 #if !PF_GPU_FORM
-/* F[jj.sl] -= (gx, gy, gz, 0).sl for the 8 lanes: pf_gather8's transpose
+/* F[jj[l]] -= (gx, gy, gz, 0).sl for the 8 lanes: pf_gather8's transpose
  * backwards, then one read-modify-write a lane (the lanes' indices differ,
- * except lanes past a row's end, which point at the row's own particle
- * with a zero force). */
-void pf_scatter_sub8(__global float4* F, uint8 jj, float8 gx, float8 gy, float8 gz) {
+ * except lanes past a row's end, which hold stale indices and a zero
+ * force). */
+void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, float8 gy, float8 gz) {
   const float8 xy_lo = (float8)(gx.s0, gy.s0, gx.s1, gy.s1, gx.s4, gy.s4, gx.s5, gy.s5);
   const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
   const float8 z_lo = (float8)(gz.s0, 0.0f, gz.s1, 0.0f, gz.s4, 0.0f, gz.s5, 0.0f);
   const float8 z_hi = (float8)(gz.s2, 0.0f, gz.s3, 0.0f, gz.s6, 0.0f, gz.s7, 0.0f);
-  F[jj.s0] -= (float4)(xy_lo.s01, z_lo.s01);
-  F[jj.s1] -= (float4)(xy_lo.s23, z_lo.s23);
-  F[jj.s4] -= (float4)(xy_lo.s45, z_lo.s45);
-  F[jj.s5] -= (float4)(xy_lo.s67, z_lo.s67);
-  F[jj.s2] -= (float4)(xy_hi.s01, z_hi.s01);
-  F[jj.s3] -= (float4)(xy_hi.s23, z_hi.s23);
-  F[jj.s6] -= (float4)(xy_hi.s45, z_hi.s45);
-  F[jj.s7] -= (float4)(xy_hi.s67, z_hi.s67);
+  F[jj[0]] -= (float4)(xy_lo.s01, z_lo.s01);
+  F[jj[1]] -= (float4)(xy_lo.s23, z_lo.s23);
+  F[jj[4]] -= (float4)(xy_lo.s45, z_lo.s45);
+  F[jj[5]] -= (float4)(xy_lo.s67, z_lo.s67);
+  F[jj[2]] -= (float4)(xy_hi.s01, z_hi.s01);
+  F[jj[3]] -= (float4)(xy_hi.s23, z_hi.s23);
+  F[jj[6]] -= (float4)(xy_hi.s45, z_hi.s45);
+  F[jj[7]] -= (float4)(xy_hi.s67, z_hi.s67);
 }
 
 /* The pairs in particle i's list, 8 entries at a time as float8 vectors.
@@ -650,9 +653,11 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
   for (uint k = 0; k < count; k += 8u) {
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
     const int8 valid = lane < (int8)((int)count);
-    const uint8 jj = select((uint8)(i), vload8(0, row + k), valid); /* past the count: i itself, masked below */
+    /* past the count: stale indices of valid particles (the buffer starts
+     * zeroed; the build pads with i), read and then masked */
+    const uint8 jj = vload8(0, row + k);
     float8 dx, dy, dz, rs;
-    pf_gather8(X, jj, &dx, &dy, &dz, &rs);
+    pf_gather8(X, row + k, &dx, &dy, &dz, &rs);
     dx = xi.x - dx;
     dy = xi.y - dy;
     dz = xi.z - dz;
@@ -675,7 +680,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     const int8 contact = near & (d2 < touch2);
     if (pf_any8(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
       float8 vx, vy, vz, imj;
-      pf_gather8(V, jj, &vx, &vy, &vz, &imj);
+      pf_gather8(V, row + k, &vx, &vy, &vz, &imj);
       const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
       const float8 un = (vi.x - vx) * nx + (vi.y - vy) * ny + (vi.z - vz) * nz;
       const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
@@ -692,7 +697,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     fy += gy;
     fz += gz;
 #if PF_NEWTON
-    pf_scatter_sub8(F, jj, gx, gy, gz);
+    pf_scatter_sub8(F, row + k, gx, gy, gz);
 #endif
   }
   const int4 o4 = overlaps.lo + overlaps.hi;

@@ -265,6 +265,11 @@ struct Engine::Impl {
     for (int h = 0; h < 2; ++h) {
       nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
       nv[h] = device.make_buffer(cap * sizeof(cl_float4), "velocities");
+      // Zeroed: the CPU pair loop reads (then masks) particles a row only
+      // held once, which must be finite (0 x NaN would not vanish).
+      for (cl::Buffer* b : {&nx[h], &nv[h]})
+        check_cl(device.queue().enqueueFillBuffer(*b, cl_float(0), 0, cap * sizeof(cl_float4)), "clEnqueueFillBuffer",
+                 "positions and velocities");
     }
     cl::Buffer nf = device.make_buffer(cap * sizeof(cl_uint), "flags");
     cl::Buffer nc = device.make_buffer(cap * sizeof(cl_float), "wall clearance");
@@ -283,6 +288,11 @@ struct Engine::Impl {
     clearance = nc;
     capacity = cap;
     lists = device.make_buffer(cap * constants.list_capacity * sizeof(cl_uint), "neighbour lists");
+    // Zeroed: the CPU pair loop reads a row's entries in eights, past its
+    // count too (then masks them), so every entry must be an index below
+    // the capacity (the build pads with the row's own particle).
+    check_cl(device.queue().enqueueFillBuffer(lists, cl_uint(0), 0, cap * constants.list_capacity * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "neighbour lists");
     list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
     // Counts past the last particle stay 0: a linked birth counts up from there.
     check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
