@@ -741,7 +741,8 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       build_bits[i] = bits;
     } else {
       count = min(list_count[i], PF_LIST_CAP);
-      if (any((int4)((int)i) == sort_rows)) pf_sort_row(row, count);
+      const int4 newcomer = (int4)((int)i) == sort_rows; /* (PoCL makes four branches of any()) */
+      if ((newcomer.x | newcomer.y | newcomer.z | newcomer.w) != 0) pf_sort_row(row, count);
     }
     const float4 f = pf_row_forces(i, xi, V[i], row, count, X, V, Fw);
     Fw[i] += f;
