@@ -35,6 +35,7 @@
 #include "pfill/device/device.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
+#include "pfill/fill.hpp"
 
 using namespace pfill;
 using Clock = std::chrono::steady_clock;
@@ -43,30 +44,43 @@ namespace {
 
 constexpr double kRadius = 0.5;
 constexpr double kPacking = 0.6;
-size_t work_group = EngineParams{}.work_group;  // --work-group
-size_t force_buffers = 0;                         // --force-buffers
-Newton newton = Newton::automatic;                // --newton on|off
-StepForm step_form = StepForm::automatic;        // --step-form
+// The settings from the command line (--work-group, --force-buffers,
+// --newton, --step-form); each case starts from them.
+EngineParams tuning;
 bool sort_cells = true;                          // Engine::sort_by_cells after the bulk addition (--no-sort: off)
 
-// The SDF of the box [-h, h]^3 sampled at `spacing`.
-ScalarGrid box_field(double h, double spacing) {
+// `distance` sampled at `spacing` over [-extent, extent]^3 (plus two samples a side).
+template <class Distance>
+ScalarGrid sampled_field(double extent, double spacing, Distance distance) {
   ScalarGrid g;
-  const int n = static_cast<int>(std::ceil(2 * h / spacing)) + 5;
+  const int n = static_cast<int>(std::ceil(2 * extent / spacing)) + 5;
   g.spacing = spacing;
-  g.origin = Vec3(-1, -1, -1) * (h + 2 * spacing);
+  g.origin = Vec3(-1, -1, -1) * (extent + 2 * spacing);
   g.dims = {n, n, n};
   g.values.resize(static_cast<size_t>(n) * n * n);
   for (int k = 0; k < n; ++k)
     for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) {
-        const Vec3 p = g.point(i, j, k);
-        const Vec3 q{std::fabs(p.x) - h, std::fabs(p.y) - h, std::fabs(p.z) - h};
-        const Vec3 out{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
-        g.values[g.index(i, j, k)] =
-            static_cast<float>(length(out) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0));
-      }
+      for (int i = 0; i < n; ++i) g.values[g.index(i, j, k)] = static_cast<float>(distance(g.point(i, j, k)));
   return g;
+}
+
+// The SDF of the box [-h, h]^3 sampled at `spacing`.
+ScalarGrid box_field(double h, double spacing) {
+  return sampled_field(h, spacing, [h](const Vec3& p) {
+    const Vec3 q{std::fabs(p.x) - h, std::fabs(p.y) - h, std::fabs(p.z) - h};
+    const Vec3 out{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
+    return length(out) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
+  });
+}
+
+// The command line's settings for spheres of kRadius, restitution 0.5.
+EngineParams case_params(bool field_image) {
+  EngineParams p = tuning;
+  p.field_image = field_image;
+  p.radius = kRadius;
+  p.restitution = 0.5;
+  p.wall_restitution = 0.5;
+  return p;
 }
 
 // N spheres of radius 0.5 on an FCC lattice filling a box at packing 0.6
@@ -117,16 +131,8 @@ double median(std::vector<double> v) {
 }
 
 nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool quick, bool field_image) {
-  EngineParams p;
-  p.field_image = field_image;
-  p.work_group = work_group;
-  p.force_buffers = force_buffers;
-  p.newton = newton;
-  p.step_form = step_form;
-  p.radius = kRadius;
+  EngineParams p = case_params(field_image);
   p.cutoff_sigma = c.cutoff_sigma;
-  p.restitution = 0.5;
-  p.wall_restitution = 0.5;
   std::vector<Particle> ps;
   const double h = fcc_system(c.n, ps);
   const ScalarGrid field = box_field(h, kRadius / 2);
@@ -268,33 +274,14 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 // growth, the share of steps that rebuilt the neighbour lists, and the
 // per-kernel times from a second, profiled run of the same growth.
 nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, double skin_sigma, bool field_image) {
-  EngineParams p;
-  p.field_image = field_image;
-  p.work_group = work_group;
-  p.force_buffers = force_buffers;
-  p.newton = newton;
-  p.step_form = step_form;
-  p.radius = kRadius;
+  EngineParams p = case_params(field_image);
   p.cutoff_sigma = 0;
-  p.restitution = 0.5;
-  p.wall_restitution = 0.5;
   p.max_step_fraction = 0.1;
   p.dt = 0.01 * derive_constants(p).tau;
   p.skin_sigma = skin_sigma;
   // Sphere holding `target` spheres at packing 0.6.
   const double R = std::cbrt(3 * target * (4.0 / 3.0) * M_PI * std::pow(kRadius, 3) / (0.6 * 4 * M_PI));
-  ScalarGrid field;
-  {
-    const double spacing = kRadius / 2;
-    const int n = static_cast<int>(std::ceil(2 * R / spacing)) + 5;
-    field.spacing = spacing;
-    field.origin = Vec3(-1, -1, -1) * (R + 2 * spacing);
-    field.dims = {n, n, n};
-    field.values.resize(static_cast<size_t>(n) * n * n);
-    for (int k = 0; k < n; ++k)
-      for (int j = 0; j < n; ++j)
-        for (int i = 0; i < n; ++i) field.values[field.index(i, j, k)] = static_cast<float>(length(field.point(i, j, k)) - R);
-  }
+  const ScalarGrid field = sampled_field(R, kRadius / 2, [R](const Vec3& x) { return length(x) - R; });
   const Vec3 sites[2] = {{-R / 2, 0, 0}, {R / 2, 0, 0}};
   const uint64_t step_cap = 40 * target;
 
@@ -315,7 +302,7 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
     std::vector<Newborn> newborns;
     const auto start = Clock::now();
     while (engine.size() < target && engine.steps_done() < step_cap) {
-      if (engine.steps_done() % 1024 == 0) engine.sort_by_cells();
+      if (engine.steps_done() % static_cast<uint64_t>(FillOptions{}.sort_every) == 0) engine.sort_by_cells();
       for (int s = 0; s < 8; ++s) {
         if (engine.steps_done() % 3 == 0)
           for (const Vec3& site : sites) {
@@ -392,13 +379,13 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--fill")) fill_only = true;
     else if (!std::strcmp(argv[i], "--field-image")) field_image = true;
     else if (!std::strcmp(argv[i], "--skin") && i + 1 < argc) skin = std::strtod(argv[++i], nullptr);
-    else if (!std::strcmp(argv[i], "--work-group") && i + 1 < argc) work_group = std::strtoul(argv[++i], nullptr, 10);
+    else if (!std::strcmp(argv[i], "--work-group") && i + 1 < argc) tuning.work_group = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--force-buffers") && i + 1 < argc)
-      force_buffers = std::strtoul(argv[++i], nullptr, 10);
+      tuning.force_buffers = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--newton") && i + 1 < argc)
-      newton = std::strcmp(argv[++i], "off") == 0 ? Newton::off : Newton::on;
+      tuning.newton = std::strcmp(argv[++i], "off") == 0 ? Newton::off : Newton::on;
     else if (!std::strcmp(argv[i], "--step-form") && i + 1 < argc)
-      step_form = std::strcmp(argv[++i], "gpu") == 0 ? StepForm::gpu : StepForm::cpu;
+      tuning.step_form = std::strcmp(argv[++i], "gpu") == 0 ? StepForm::gpu : StepForm::cpu;
     else if (!std::strcmp(argv[i], "--no-sort")) sort_cells = false;
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);

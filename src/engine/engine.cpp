@@ -179,8 +179,8 @@ struct Engine::Impl {
     while (4 * root * root <= group_size) root *= 2;
     d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
     d["PF_NEWTON"] = newton ? "1" : "0";
-    d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (constants.force_cap * constants.list_capacity));
-    d["PF_FIX_MAX"] = flt(16384 * constants.force_cap);
+    d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (c.force_cap * c.list_capacity));
+    d["PF_FIX_MAX"] = flt(16384 * c.force_cap);
     d["PF_WG"] = std::to_string(group_size) + "u";
     d["PF_WG_ROOT"] = std::to_string(root) + "u";
     return d;
