@@ -384,6 +384,8 @@ int main(int argc, char** argv) {
       tuning.force_buffers = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--newton") && i + 1 < argc)
       tuning.newton = std::strcmp(argv[++i], "off") == 0 ? Newton::off : Newton::on;
+    else if (!std::strcmp(argv[i], "--pair-queue") && i + 1 < argc)
+      tuning.pair_queue = std::strcmp(argv[++i], "off") == 0 ? PairQueue::off : PairQueue::on;
     else if (!std::strcmp(argv[i], "--step-form") && i + 1 < argc)
       tuning.step_form = std::strcmp(argv[++i], "gpu") == 0 ? StepForm::gpu : StepForm::cpu;
     else if (!std::strcmp(argv[i], "--no-sort")) sort_cells = false;

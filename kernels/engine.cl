@@ -5,8 +5,9 @@
  *
  * State (float4 per particle): X = (position, radius), V = (velocity at the
  * half step, 1 / mass). The update is `advance`: it reads X and V and
- * writes X' and V', the other halves of ping-pong buffers, so no work-item
- * reads what another writes. On GPUs it computes the pair forces itself;
+ * writes X' and V', on GPUs the other halves of ping-pong buffers, so no
+ * work-item reads what another writes; on CPU devices, where `advance`
+ * reads only its own particle, the same buffers (in place). On GPUs it computes the pair forces itself;
  * on CPU devices a launch of `pair_forces` before it does (see below). Leapfrog (velocity Verlet written
  * with half-step velocities): u(t+1/2) = u(t-1/2) + dt F(x(t), u(t-1/2))/m,
  * F the pair forces plus the contact dashpots, x(t+1) = x(t) + dt u(t+1/2),
@@ -93,6 +94,7 @@
 #define PF_WG_ROOT 8u
 #define PF_GPU_FORM 0
 #define PF_NEWTON 1
+#define PF_PAIR_QUEUE 1
 #define PF_FIX_SCALE 1.0e9f
 #define PF_FIX_MAX 1.0e6f
 #endif
@@ -211,6 +213,24 @@ bool pf_any8(int8 m) {
   const int4 a = m.lo | m.hi;
   const int2 b = a.lo | a.hi;
   return (b.x | b.y) < 0;
+}
+
+/* 1 / sqrt(x) for 8 lanes without the divider: the CPU's reciprocal
+ * square-root estimate (AVX-512VL: 14 bits; AVX: 12 bits) and one Newton
+ * step, within about 2 ulp of the rounded result; rsqrt() elsewhere. PoCL
+ * compiles rsqrt() and native_rsqrt() to a square root and a division, the
+ * two slowest instructions of the pair loop (one unit, not pipelined). */
+float8 pf_rsqrt8(float8 x) {
+#if defined(__AVX512VL__)
+  const float8 y = __builtin_ia32_rsqrt14ps256_mask(x, (float8)(0.0f), (uchar)0xff);
+#elif defined(__AVX__)
+  const float8 y = __builtin_ia32_rsqrtps256(x);
+#else
+  return rsqrt(x);
+#endif
+#if defined(__AVX512VL__) || defined(__AVX__)
+  return y * (1.5f - 0.5f * x * y * y);
+#endif
 }
 
 /* The float4s X[row[0..7]] as four lane vectors (their x, y, z and w):
@@ -641,15 +661,18 @@ void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, flo
 }
 
 /* The pairs in particle i's list, 8 entries at a time as float8 vectors.
- * Returns the force on i, with w = the overlapping pairs it counts. With
+ * Returns the force on i, with w = the overlapping pairs it counts, and
+ * in *acted whether any entry was within reach (else the force is 0 and
+ * the horizontal sums are skipped: most rows of a loose packing). With
  * PF_NEWTON (each pair in one of its two particles' lists) the force on
  * each partner j is also subtracted from F[j] (Newton's third law) and
  * every listed overlap counts; without, only those with j > i. */
 float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count, __global const float4* X,
-                     __global const float4* V, __global float4* F) {
+                     __global const float4* V, __global float4* F, bool* acted) {
   const float ri = xi.w, inv_mi = vi.w;
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair */
+  bool any_near = false;
   for (uint k = 0; k < count; k += 8u) {
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
     const int8 valid = lane < (int8)((int)count);
@@ -666,6 +689,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
     const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
     if (!pf_any8(near)) continue;
+    any_near = true;
     d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
     const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
     if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
@@ -674,7 +698,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
       dz = select(dz, (float8)(0.0f), tiny);
       d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
     }
-    const float8 inv_d2 = 1.0f / d2, inv_d = sqrt(inv_d2);
+    const float8 inv_d = pf_rsqrt8(d2), inv_d2 = inv_d * inv_d;
     const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
     float8 gx = kf * dx, gy = kf * dy, gz = kf * dz;
     const int8 contact = near & (d2 < touch2);
@@ -683,7 +707,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
       pf_gather8(V, row + k, &vx, &vy, &vz, &imj);
       const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
       const float8 un = (vi.x - vx) * nx + (vi.y - vy) * ny + (vi.z - vz) * nz;
-      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * rsqrt(inv_mi + imj) * un, contact);
+      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * pf_rsqrt8(inv_mi + imj) * un, contact);
       gx += cf * nx;
       gy += cf * ny;
       gz += cf * nz;
@@ -700,12 +724,170 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     pf_scatter_sub8(F, row + k, gx, gy, gz);
 #endif
   }
+  *acted = any_near;
+  if (!any_near) return (float4)(0.0f);
   const int4 o4 = overlaps.lo + overlaps.hi;
   const int2 o2 = o4.lo + o4.hi;
   const float4 hx = fx.lo + fx.hi, hy = fy.lo + fy.hi, hz = fz.lo + fz.hi;
   return (float4)(hx.x + hx.y + hx.z + hx.w, hy.x + hy.y + hy.z + hy.w, hz.x + hz.y + hz.z + hz.w,
                   (float)(-(o2.x + o2.y)));
 }
+
+#if PF_PAIR_QUEUE
+/* The pair queue (EngineParams::pair_queue): rows are first only tested,
+ * 8 entries at a time, and the entries within reach are appended with
+ * their offsets (pf_queue_push); the forces are then computed 8 queued
+ * pairs at a time (pf_queue_pairs8), whatever rows they came from, so that
+ * short rows with few pairs in reach (purely repulsive lists) do not run
+ * a whole 8-lane force batch, velocity gather and scatter for one or two
+ * pairs. Both particles' forces are scattered (the i side with w = the
+ * overlapping pairs counted); the j side only with PF_NEWTON. */
+typedef struct {
+  uint i[16], j[16];
+  float dx[16], dy[16], dz[16], rs[16];
+  uint count;
+} pf_queue;
+
+/* The lanes of `near` (as an 8-bit mask) of v, packed to the front. */
+#if defined(__AVX512VL__)
+#define PF_MASK8(m) __builtin_ia32_cvtd2mask256(m)
+#define PF_PACK8F(v, mask) __builtin_ia32_compresssf256_mask((v), (float8)(0.0f), (mask))
+#define PF_PACK8U(v, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), (int8)(0), (mask)))
+#endif
+
+/* F[idx[l]] += sign (gx, gy, gz, gw).sl for the 8 lanes, one
+ * read-modify-write a lane in lane order (so repeated indices add up):
+ * pf_gather8's transpose backwards. */
+void pf_scatter_add8(__global float4* F, const uint* idx, float8 gx, float8 gy, float8 gz, float8 gw) {
+  const float8 xy_lo = (float8)(gx.s0, gy.s0, gx.s1, gy.s1, gx.s4, gy.s4, gx.s5, gy.s5);
+  const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
+  const float8 zw_lo = (float8)(gz.s0, gw.s0, gz.s1, gw.s1, gz.s4, gw.s4, gz.s5, gw.s5);
+  const float8 zw_hi = (float8)(gz.s2, gw.s2, gz.s3, gw.s3, gz.s6, gw.s6, gz.s7, gw.s7);
+  F[idx[0]] += (float4)(xy_lo.s01, zw_lo.s01);
+  F[idx[1]] += (float4)(xy_lo.s23, zw_lo.s23);
+  F[idx[2]] += (float4)(xy_hi.s01, zw_hi.s01);
+  F[idx[3]] += (float4)(xy_hi.s23, zw_hi.s23);
+  F[idx[4]] += (float4)(xy_lo.s45, zw_lo.s45);
+  F[idx[5]] += (float4)(xy_lo.s67, zw_lo.s67);
+  F[idx[6]] += (float4)(xy_hi.s45, zw_hi.s45);
+  F[idx[7]] += (float4)(xy_hi.s67, zw_hi.s67);
+}
+
+/* The float4s X[idx[0..7]] (idx in private memory) as lane vectors: pf_gather8. */
+void pf_gather8_private(__global const float4* X, const uint* idx, float8* x, float8* y, float8* z, float8* w) {
+  const float8 a = (float8)(X[idx[0]], X[idx[4]]), b = (float8)(X[idx[1]], X[idx[5]]);
+  const float8 c = (float8)(X[idx[2]], X[idx[6]]), d = (float8)(X[idx[3]], X[idx[7]]);
+  const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
+  const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
+  const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
+  const float8 cd_hi = (float8)(c.s2, d.s2, c.s3, d.s3, c.s6, d.s6, c.s7, d.s7);
+  *x = (float8)(ab_lo.s01, cd_lo.s01, ab_lo.s45, cd_lo.s45);
+  *y = (float8)(ab_lo.s23, cd_lo.s23, ab_lo.s67, cd_lo.s67);
+  *z = (float8)(ab_hi.s01, cd_hi.s01, ab_hi.s45, cd_hi.s45);
+  *w = (float8)(ab_hi.s23, cd_hi.s23, ab_hi.s67, cd_hi.s67);
+}
+
+/* The forces of the first `valid` (1..8) queued pairs, added to F (see
+ * pf_row_forces for the physics: the same formulas lane by lane). */
+void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global float4* F) {
+  const int8 ok = (int8)(0, 1, 2, 3, 4, 5, 6, 7) < (int8)((int)valid);
+  const uint8 ii = vload8(0, q->i), jj = vload8(0, q->j);
+  float8 dx = vload8(0, q->dx), dy = vload8(0, q->dy), dz = vload8(0, q->dz);
+  const float8 rs = vload8(0, q->rs);
+  const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
+  float8 d2 = select((float8)(1.0f), dx * dx + dy * dy + dz * dz, ok); /* unused lanes stay finite */
+  const int8 tiny = ok & (d2 < PF_D_MIN * PF_D_MIN);
+  if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
+    dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > ii), tiny);
+    dy = select(dy, (float8)(0.0f), tiny);
+    dz = select(dz, (float8)(0.0f), tiny);
+    d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+  }
+  const float8 inv_d = pf_rsqrt8(d2), inv_d2 = inv_d * inv_d;
+  const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), ok & (d2 < PF_RC2));
+  float8 gx = kf * dx, gy = kf * dy, gz = kf * dz, gw = (float8)(0.0f);
+  const int8 contact = ok & (d2 < touch2);
+  if (pf_any8(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+    float8 vix, viy, viz, imi, vjx, vjy, vjz, imj;
+    pf_gather8_private(V, q->i, &vix, &viy, &viz, &imi);
+    pf_gather8_private(V, q->j, &vjx, &vjy, &vjz, &imj);
+    const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+    const float8 un = (vix - vjx) * nx + (viy - vjy) * ny + (viz - vjz) * nz;
+    const float8 cf = select((float8)(0.0f), -PF_DASHPOT * pf_rsqrt8(imi + imj) * un, contact);
+    gx += cf * nx;
+    gy += cf * ny;
+    gz += cf * nz;
+#if PF_NEWTON
+    gw = select((float8)(0.0f), (float8)(1.0f), contact & (d2 < rs * rs));
+#else
+    gw = select((float8)(0.0f), (float8)(1.0f), contact & (d2 < rs * rs) & (jj > ii));
+#endif
+  }
+  pf_scatter_add8(F, q->i, gx, gy, gz, gw);
+#if PF_NEWTON
+  pf_scatter_add8(F, q->j, -gx, -gy, -gz, (float8)(0.0f));
+#endif
+}
+
+/* Particle i's list entries within reach, appended to the queue; each
+ * full 8 are computed at once. */
+void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
+                   __global const float4* V, __global float4* F) {
+  for (uint k = 0; k < count; k += 8u) {
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+    float8 dx, dy, dz, rs;
+    pf_gather8(X, row + k, &dx, &dy, &dz, &rs);
+    dx = xi.x - dx;
+    dy = xi.y - dy;
+    dz = xi.z - dz;
+    rs += xi.w;
+    const float8 d2 = dx * dx + dy * dy + dz * dz;
+    const int8 near = (lane < (int8)((int)count)) & (d2 < fmax(fmax(rs * rs, PF_CONTACT2), PF_RC2));
+    if (!pf_any8(near)) continue;
+    const uint at = q->count;
+#if defined(PF_MASK8)
+    const uchar mask = PF_MASK8(near);
+    vstore8((uint8)(i), 0, q->i + at);
+    vstore8(PF_PACK8U(vload8(0, row + k), mask), 0, q->j + at);
+    vstore8(PF_PACK8F(dx, mask), 0, q->dx + at);
+    vstore8(PF_PACK8F(dy, mask), 0, q->dy + at);
+    vstore8(PF_PACK8F(dz, mask), 0, q->dz + at);
+    vstore8(PF_PACK8F(rs, mask), 0, q->rs + at);
+    q->count = at + popcount((uint)mask);
+#else
+    int m[8];
+    float ox[8], oy[8], oz[8], ors[8];
+    vstore8(near, 0, m);
+    vstore8(dx, 0, ox);
+    vstore8(dy, 0, oy);
+    vstore8(dz, 0, oz);
+    vstore8(rs, 0, ors);
+    uint c = at;
+    for (uint l = 0; l < 8u; ++l) {
+      if (m[l] == 0) continue;
+      q->i[c] = i;
+      q->j[c] = row[k + l];
+      q->dx[c] = ox[l];
+      q->dy[c] = oy[l];
+      q->dz[c] = oz[l];
+      q->rs[c] = ors[l];
+      ++c;
+    }
+    q->count = c;
+#endif
+    if (q->count >= 8u) { /* a full batch; the rest (fewer than 8) moves to the front */
+      pf_queue_pairs8(q, 8u, V, F);
+      q->count -= 8u;
+      vstore8(vload8(1, q->i), 0, q->i);
+      vstore8(vload8(1, q->j), 0, q->j);
+      vstore8(vload8(1, q->dx), 0, q->dx);
+      vstore8(vload8(1, q->dy), 0, q->dy);
+      vstore8(vload8(1, q->dz), 0, q->dz);
+      vstore8(vload8(1, q->rs), 0, q->rs);
+    }
+  }
+}
+#endif
 
 /* The pair forces of a step on CPU devices, before `advance` (which adds
  * them up). Work-group w of W (one work-item each) takes particles
@@ -727,6 +909,10 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
   const uint end = min(n, (w + 1u) * per);
   __global float4* Fw = PF_NEWTON ? F + (size_t)w * force_stride : F;
   const uint rebuild = force_rebuild || request[request_read];
+#if PF_PAIR_QUEUE
+  pf_queue q;
+  q.count = 0u;
+#endif
   for (uint i = w * per; i < end; ++i) {
     const float4 xi = X[i];
     __global uint* row = PF_ROW(list, i);
@@ -744,9 +930,24 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       const int4 newcomer = (int4)((int)i) == sort_rows; /* (PoCL makes four branches of any()) */
       if ((newcomer.x | newcomer.y | newcomer.z | newcomer.w) != 0) pf_sort_row(row, count);
     }
-    const float4 f = pf_row_forces(i, xi, V[i], row, count, X, V, Fw);
-    Fw[i] += f;
+#if PF_PAIR_QUEUE
+    pf_queue_push(&q, i, xi, row, count, X, V, Fw);
+#else
+    bool acted = false;
+    const float4 f = pf_row_forces(i, xi, V[i], row, count, X, V, Fw, &acted);
+    if (acted) Fw[i] += f;
+#endif
   }
+#if PF_PAIR_QUEUE
+  if (q.count > 0u) { /* the last, partial batch: its unused lanes name particles of the block, with zero force */
+    for (uint l = q.count; l < 8u; ++l) {
+      q.i[l] = q.i[0];
+      q.j[l] = q.i[0];
+      q.dx[l] = q.dy[l] = q.dz[l] = q.rs[l] = 0.0f;
+    }
+    pf_queue_pairs8(&q, q.count, V, Fw);
+  }
+#endif
 }
 #endif
 

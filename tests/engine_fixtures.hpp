@@ -85,8 +85,10 @@ inline Device& shared_device() {
 }
 
 /// Engine settings for a test: the defaults, with the step form that
-/// PFILL_TEST_STEP_FORM names (cpu or gpu; unset: the device's own). ctest
-/// runs the engine tests once more with gpu, so CI checks that code too.
+/// PFILL_TEST_STEP_FORM names (cpu or gpu; unset: the device's own), and
+/// the CPU form's settings PFILL_TEST_NEWTON, PFILL_TEST_PAIR_QUEUE (on,
+/// off) and PFILL_TEST_FORCE_BUFFERS. ctest runs the engine tests once more
+/// with each, so CI checks all of that code.
 inline EngineParams test_params() {
   EngineParams p;
   if (const char* form = std::getenv("PFILL_TEST_STEP_FORM"))
@@ -94,6 +96,8 @@ inline EngineParams test_params() {
   if (const char* buffers = std::getenv("PFILL_TEST_FORCE_BUFFERS")) p.force_buffers = std::stoul(buffers);
   if (const char* newton = std::getenv("PFILL_TEST_NEWTON"))
     p.newton = std::string(newton) == "off" ? Newton::off : Newton::on;
+  if (const char* queue = std::getenv("PFILL_TEST_PAIR_QUEUE"))
+    p.pair_queue = std::string(queue) == "off" ? PairQueue::off : PairQueue::on;
   return p;
 }
 

@@ -70,6 +70,7 @@ struct Engine::Impl {
   size_t group_size;  // PF_WG: the work-group of `advance` and `finalize_history` (before `program`)
   bool gpu_form;      // EngineParams::step_form resolved for this device (before `program`)
   bool newton;        // EngineParams::newton resolved (before `program`)
+  bool pair_queue;    // EngineParams::pair_queue resolved (before `program`)
   // Force buffers `advance` adds up: with Newton, one per pair_forces
   // work-item (EngineParams::force_buffers; set by reserve()); else 1 (0 on GPUs).
   size_t force_groups = 0;
@@ -114,6 +115,7 @@ struct Engine::Impl {
       : device(d), params(p), constants(checked_constants(d, p)), group_size(reduction_group(d, p)),
         gpu_form(p.step_form == StepForm::automatic ? d.info().type != "CPU" : p.step_form == StepForm::gpu),
         newton(!gpu_form && (p.newton == Newton::automatic ? d.info().compute_units <= 4 : p.newton == Newton::on)),
+        pair_queue(!gpu_form && (p.pair_queue == PairQueue::automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on)),
         program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", group_size);
     k_finalize = program.kernel("finalize_history", group_size);
@@ -179,6 +181,7 @@ struct Engine::Impl {
     while (4 * root * root <= group_size) root *= 2;
     d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
     d["PF_NEWTON"] = newton ? "1" : "0";
+    d["PF_PAIR_QUEUE"] = pair_queue ? "1" : "0";
     d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (c.force_cap * c.list_capacity));
     d["PF_FIX_MAX"] = flt(16384 * c.force_cap);
     d["PF_WG"] = std::to_string(group_size) + "u";
@@ -262,7 +265,7 @@ struct Engine::Impl {
     while (cap < want) cap *= 2;
     reduce_pending();  // the record buffers are reallocated below
     cl::Buffer nx[2], nv[2];
-    for (int h = 0; h < 2; ++h) {
+    for (int h = 0; h < (gpu_form ? 2 : 1); ++h) {
       nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
       nv[h] = device.make_buffer(cap * sizeof(cl_float4), "velocities");
       // Zeroed: the CPU pair loop reads (then masks) particles a row only
@@ -384,7 +387,10 @@ struct Engine::Impl {
   void step() {
     require_domain();
     if (steps - history_read >= params.history_capacity) drain_history();
-    const int nxt = 1 - cur;
+    // GPUs: ping-pong (advance reads other particles' X and V); CPU devices
+    // update in place (advance reads only its own particle's), which spares
+    // the cache the second copy and the writes their line reads.
+    const int nxt = gpu_form ? 1 - cur : cur;
     const bool force = !lists_valid;
     insert_cells(force);
     if (!gpu_form) {

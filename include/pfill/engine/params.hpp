@@ -14,6 +14,8 @@ namespace pfill {
 enum class StepForm { automatic, cpu, gpu };
 /// Whether the `cpu` form lists each pair once: see EngineParams::newton.
 enum class Newton { automatic, on, off };
+/// Whether the `cpu` form queues the pairs in reach: see EngineParams::pair_queue.
+enum class PairQueue { automatic, on, off };
 
 /// What the user sets. Lengths are in mesh units; a particle of radius
 /// `radius` has mass 1 (mass scales with volume, (r / radius)^3).
@@ -62,6 +64,13 @@ struct EngineParams {
   /// bytes). 0: one per compute unit, and fewer where the buffers would
   /// pass 512 MiB. Results depend on it (summation order).
   size_t force_buffers = 0;
+  /// `cpu` form: test each row's entries first and queue those within
+  /// reach, then compute the queued pairs 8 at a time whatever rows they
+  /// came from (both particles' forces scattered), instead of running a
+  /// whole 8-lane force batch for every 8 entries of a row. Pays where rows
+  /// are short and few entries are in reach (purely repulsive lists);
+  /// `automatic`: on for purely repulsive potentials. `gpu` form: unused.
+  PairQueue pair_queue = PairQueue::automatic;
 };
 
 /// Everything derived from EngineParams (see derive_constants).
