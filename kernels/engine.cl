@@ -174,9 +174,11 @@ float8 pf_partials_serial(__global const float8* src, uint first, uint end) {
     const float8 r = src[k];
     const uint4 u = as_uint4(r.s4567);
     ke += r.s0;
-    speed = fmax(speed, r.s1);
-    disp = fmax(disp, r.s2);
-    rebuilt = fmax(rebuilt, r.s3);
+    /* compares, not fmax (whose NaN handling PoCL spends instructions on):
+     * the same maxima, a NaN record losing either way */
+    speed = r.s1 > speed ? r.s1 : speed;
+    disp = r.s2 > disp ? r.s2 : disp;
+    rebuilt = r.s3 > rebuilt ? r.s3 : rebuilt;
     pairs += u.x;
     flagged += u.y;
     overflow += u.z;
@@ -297,18 +299,20 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
     if (cell != 0u) counts[other_base + cell - 1u] = 0u;
   }
   if (i == 0u) touched_upto[now] = rebuild ? n : 0u;
-  if (i >= n || !rebuild) return;
-  const float4 x = X[i];
-  const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims);
-  const uint count = atomic_inc(&counts[cell_base + cell]);
-  touched[now * touched_stride + i] = count == 0u ? cell + 1u : 0u;
-  if (count < PF_CELL_CAP) {
-    __global float* block = slots + cell * PF_BLOCK;
-    block[PF_SLOT(count, 0u)] = x.x;
-    block[PF_SLOT(count, 1u)] = x.y;
-    block[PF_SLOT(count, 2u)] = x.z;
-    block[PF_SLOT(count, 3u)] = x.w;
-    block[PF_SLOT(count, 4u)] = as_float(i);
+  if (!rebuild) return;
+  for (uint k = i; k < n; k += items) { /* CPU devices launch a few items a core: most steps return at once */
+    const float4 x = X[k];
+    const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims);
+    const uint count = atomic_inc(&counts[cell_base + cell]);
+    touched[now * touched_stride + k] = count == 0u ? cell + 1u : 0u;
+    if (count < PF_CELL_CAP) {
+      __global float* block = slots + cell * PF_BLOCK;
+      block[PF_SLOT(count, 0u)] = x.x;
+      block[PF_SLOT(count, 1u)] = x.y;
+      block[PF_SLOT(count, 2u)] = x.z;
+      block[PF_SLOT(count, 3u)] = x.w;
+      block[PF_SLOT(count, 4u)] = as_float(k);
+    }
   }
 }
 
@@ -1102,12 +1106,14 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     float4 u = vi;
     u.w = 0.0f;
     u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
-    const float speed = length(u);
+    /* sqrt(dot()), not length(): PoCL's length() guards against overflow
+     * with branches these magnitudes never need */
+    const float speed = sqrt(dot(u, u));
     if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
     float4 xn = xi + PF_DT * u;
     xn.w = ri;
     if (sdf_dims.w != 0) {
-      float clearance = C[i] - 2.0f * PF_DT * length(u);
+      float clearance = C[i] - 2.0f * PF_DT * sqrt(dot(u, u));
       if (clearance <= 0.0f) {
         float g[3];
         float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
@@ -1148,7 +1154,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     float4 drift = xn - XREF[i];
     drift.w = 0.0f;
     if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], 1u);
-    record = pf_record(0.5f * dot(u, u) / inv_mi, length(u), length(dxn), rebuilt, pairs,
+    const float u2 = dot(u, u);
+    record = pf_record(0.5f * u2 / inv_mi, sqrt(u2), sqrt(dot(dxn, dxn)), rebuilt, pairs,
                        (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
   }
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */

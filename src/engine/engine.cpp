@@ -367,7 +367,10 @@ struct Engine::Impl {
     k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), touched, touched_upto,
                       cl_uint(capacity), cell_origin, cell_inv, cell_dims, cl_uint(n),
                       rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
-    run(k_insert, n);
+    // GPUs: an item a particle; CPU devices: a group a core, each item
+    // looping (a launch of n items costs PoCL ~0.2 us a group even on the
+    // steps that return at once).
+    run(k_insert, gpu_form ? n : std::min(n, std::max<size_t>(1, device.info().compute_units) * params.work_group));
   }
 
   // Finishes the reductions of the steps in flight (one work-group).
