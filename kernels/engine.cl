@@ -116,6 +116,19 @@
 #define PF_AT(row, k) ((row)[(size_t)((k) >> 2) * 128u + ((k) & 3u)])
 #endif
 
+/* A row entry names neighbour j: on GPUs j itself; on CPU devices the byte
+ * offset of its float4 (16 j, so at most 2^28 particles), which the pair
+ * loop adds to X, V or F as it is (x86 scales an index by at most 8: a
+ * plain index costs a shift a lane). PF_LOAD_AT / PF_REF_AT: the float4
+ * of an entry, read-only or to update. */
+#if !PF_GPU_FORM
+#define PF_ENTRY(j) ((j) << 4)
+#define PF_LOAD_AT(base, e) (*(__global const float4*)((__global const uchar*)(base) + (e)))
+#define PF_REF_AT(base, e) (*(__global float4*)((__global uchar*)(base) + (e)))
+#else
+#define PF_ENTRY(j) (j)
+#endif
+
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
 #define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
 /* Bits a step sets for a particle (pf_build_list, the wall). */
@@ -240,14 +253,17 @@ float8 pf_rsqrt8(float8 x) {
 #endif
 }
 
-/* The float4s X[row[0..7]] as four lane vectors (their x, y, z and w):
- * 8 loads and a 4x4 transpose in each 128-bit half (element by element,
- * PoCL spends a broadcast and a blend on each of the 32 lanes). The
- * indices are read from memory as scalars: taking them out of a vector
- * costs more instructions. */
+#if !PF_GPU_FORM
+/* The float4s of row entries row[0..7] (PF_ENTRY) of X as four lane
+ * vectors (their x, y, z and w): 8 loads and a 4x4 transpose in each
+ * 128-bit half (element by element, PoCL spends a broadcast and a blend on
+ * each of the 32 lanes). The entries are read from memory as scalars:
+ * taking them out of a vector costs more instructions. */
 void pf_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
-  const float8 a = (float8)(X[row[0]], X[row[4]]), b = (float8)(X[row[1]], X[row[5]]);
-  const float8 c = (float8)(X[row[2]], X[row[6]]), d = (float8)(X[row[3]], X[row[7]]);
+  const float8 a = (float8)(PF_LOAD_AT(X, row[0]), PF_LOAD_AT(X, row[4]));
+  const float8 b = (float8)(PF_LOAD_AT(X, row[1]), PF_LOAD_AT(X, row[5]));
+  const float8 c = (float8)(PF_LOAD_AT(X, row[2]), PF_LOAD_AT(X, row[6]));
+  const float8 d = (float8)(PF_LOAD_AT(X, row[3]), PF_LOAD_AT(X, row[7]));
   const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
   const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
   const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
@@ -257,6 +273,7 @@ void pf_gather8(__global const float4* X, __global const uint* row, float8* x, f
   *z = (float8)(ab_hi.s01, cd_hi.s01, ab_hi.s45, cd_hi.s45);
   *w = (float8)(ab_hi.s23, cd_hi.s23, ab_hi.s67, cd_hi.s67);
 }
+#endif
 
 /* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
  * 1/d, with the prelude's constants (the same formula with the divisions
@@ -362,7 +379,7 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
 #if !PF_GPU_FORM && PF_NEWTON
   /* each pair in one list: the newcomer's stays empty */
   if (mine < PF_LIST_CAP) {
-    PF_AT(PF_ROW(list, i), mine) = n;
+    PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
   } else {
     atomic_or(&request[request_next], 1u);
@@ -371,9 +388,9 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
 #endif
   const uint slot = atomic_inc(&list_count[n]);
   if (mine < PF_LIST_CAP && slot < PF_LIST_CAP) {
-    PF_AT(PF_ROW(list, i), mine) = n;
+    PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
-    PF_AT(PF_ROW(list, n), slot) = i;
+    PF_AT(PF_ROW(list, n), slot) = PF_ENTRY(i);
   } else {
     atomic_or(&request[request_next], 1u);
   }
@@ -401,7 +418,7 @@ __kernel void remove_linked(__global float4* X, __global float4* V, __global uin
     const uint count = min(list_count[last], PF_LIST_CAP);
     uint kept = 0u;
     for (uint k = 0; k < count; ++k)
-      if (PF_AT(from, k) != gone) {
+      if (PF_AT(from, k) != PF_ENTRY(gone)) {
         PF_AT(row, kept) = PF_AT(from, k); /* (PF_AT uses its arguments twice: no ++ in them) */
         ++kept;
       }
@@ -410,11 +427,11 @@ __kernel void remove_linked(__global float4* X, __global float4* V, __global uin
   }
   uint count = min(list_count[i], PF_LIST_CAP);
   for (uint k = 0; k < count;) {
-    if (PF_AT(row, k) == gone) {
+    if (PF_AT(row, k) == PF_ENTRY(gone)) {
       --count;
       PF_AT(row, k) = PF_AT(row, count);
     } else {
-      if (PF_AT(row, k) == last) PF_AT(row, k) = gone;
+      if (PF_AT(row, k) == PF_ENTRY(last)) PF_AT(row, k) = PF_ENTRY(gone);
       ++k;
     }
   }
@@ -628,10 +645,10 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const float8 hit = select((float8)(0.0f), (float8)(1.0f), near);
           const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
           if (hits == 0u) continue;
-          const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj, near));
+          const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj << 4u, near)); /* as entries (PF_ENTRY) */
           if (found + 8u <= PF_LIST_CAP) {
-            /* the non-neighbours sorted last become i: a row holds indices only */
-            vstore8(select((uint8)(i), sorted, sorted != (uint8)(UINT_MAX)), 0, row + found);
+            /* the non-neighbours sorted last become i: a row holds entries only */
+            vstore8(select((uint8)(PF_ENTRY(i)), sorted, sorted != (uint8)(UINT_MAX)), 0, row + found);
           } else {
             uint js[8];
             vstore8(sorted, 0, js);
@@ -650,7 +667,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
 #endif
 
 #if !PF_GPU_FORM
-/* F[jj[l]] -= (gx, gy, gz, 0).sl for the 8 lanes: pf_gather8's transpose
+/* F at entry jj[l] (PF_ENTRY) -= (gx, gy, gz, 0).sl for the 8 lanes: pf_gather8's transpose
  * backwards, then one read-modify-write a lane (the lanes' indices differ,
  * except lanes past a row's end, which hold stale indices and a zero
  * force). */
@@ -659,14 +676,14 @@ void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, flo
   const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
   const float8 z_lo = (float8)(gz.s0, 0.0f, gz.s1, 0.0f, gz.s4, 0.0f, gz.s5, 0.0f);
   const float8 z_hi = (float8)(gz.s2, 0.0f, gz.s3, 0.0f, gz.s6, 0.0f, gz.s7, 0.0f);
-  F[jj[0]] -= (float4)(xy_lo.s01, z_lo.s01);
-  F[jj[1]] -= (float4)(xy_lo.s23, z_lo.s23);
-  F[jj[4]] -= (float4)(xy_lo.s45, z_lo.s45);
-  F[jj[5]] -= (float4)(xy_lo.s67, z_lo.s67);
-  F[jj[2]] -= (float4)(xy_hi.s01, z_hi.s01);
-  F[jj[3]] -= (float4)(xy_hi.s23, z_hi.s23);
-  F[jj[6]] -= (float4)(xy_hi.s45, z_hi.s45);
-  F[jj[7]] -= (float4)(xy_hi.s67, z_hi.s67);
+  PF_REF_AT(F, jj[0]) -= (float4)(xy_lo.s01, z_lo.s01);
+  PF_REF_AT(F, jj[1]) -= (float4)(xy_lo.s23, z_lo.s23);
+  PF_REF_AT(F, jj[4]) -= (float4)(xy_lo.s45, z_lo.s45);
+  PF_REF_AT(F, jj[5]) -= (float4)(xy_lo.s67, z_lo.s67);
+  PF_REF_AT(F, jj[2]) -= (float4)(xy_hi.s01, z_hi.s01);
+  PF_REF_AT(F, jj[3]) -= (float4)(xy_hi.s23, z_hi.s23);
+  PF_REF_AT(F, jj[6]) -= (float4)(xy_hi.s45, z_hi.s45);
+  PF_REF_AT(F, jj[7]) -= (float4)(xy_hi.s67, z_hi.s67);
 }
 
 /* The pairs in particle i's list, 8 entries at a time as float8 vectors.
@@ -702,7 +719,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
     const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
     if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
-      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(i)), tiny);
+      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(PF_ENTRY(i))), tiny);
       dy = select(dy, (float8)(0.0f), tiny);
       dz = select(dz, (float8)(0.0f), tiny);
       d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
@@ -723,7 +740,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
 #if PF_NEWTON
       overlaps += contact & (d2 < rs * rs);
 #else
-      overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(i));
+      overlaps += contact & (d2 < rs * rs) & (jj > (uint8)(PF_ENTRY(i)));
 #endif
     }
     fx += gx;
@@ -752,7 +769,7 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
  * pairs. Both particles' forces are scattered (the i side with w = the
  * overlapping pairs counted); the j side only with PF_NEWTON. */
 typedef struct {
-  uint i[16], j[16];
+  uint i[16], j[16]; /* the pairs' two particles as row entries (PF_ENTRY) */
   float dx[16], dy[16], dz[16], rs[16];
   uint count;
 } pf_queue;
@@ -764,7 +781,7 @@ typedef struct {
 #define PF_PACK8U(v, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), (int8)(0), (mask)))
 #endif
 
-/* F[idx[l]] += sign (gx, gy, gz, gw).sl for the 8 lanes, one
+/* F at entry idx[l] (PF_ENTRY) += (gx, gy, gz, gw).sl for the 8 lanes, one
  * read-modify-write a lane in lane order (so repeated indices add up):
  * pf_gather8's transpose backwards. */
 void pf_scatter_add8(__global float4* F, const uint* idx, float8 gx, float8 gy, float8 gz, float8 gw) {
@@ -772,20 +789,22 @@ void pf_scatter_add8(__global float4* F, const uint* idx, float8 gx, float8 gy, 
   const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
   const float8 zw_lo = (float8)(gz.s0, gw.s0, gz.s1, gw.s1, gz.s4, gw.s4, gz.s5, gw.s5);
   const float8 zw_hi = (float8)(gz.s2, gw.s2, gz.s3, gw.s3, gz.s6, gw.s6, gz.s7, gw.s7);
-  F[idx[0]] += (float4)(xy_lo.s01, zw_lo.s01);
-  F[idx[1]] += (float4)(xy_lo.s23, zw_lo.s23);
-  F[idx[2]] += (float4)(xy_hi.s01, zw_hi.s01);
-  F[idx[3]] += (float4)(xy_hi.s23, zw_hi.s23);
-  F[idx[4]] += (float4)(xy_lo.s45, zw_lo.s45);
-  F[idx[5]] += (float4)(xy_lo.s67, zw_lo.s67);
-  F[idx[6]] += (float4)(xy_hi.s45, zw_hi.s45);
-  F[idx[7]] += (float4)(xy_hi.s67, zw_hi.s67);
+  PF_REF_AT(F, idx[0]) += (float4)(xy_lo.s01, zw_lo.s01);
+  PF_REF_AT(F, idx[1]) += (float4)(xy_lo.s23, zw_lo.s23);
+  PF_REF_AT(F, idx[2]) += (float4)(xy_hi.s01, zw_hi.s01);
+  PF_REF_AT(F, idx[3]) += (float4)(xy_hi.s23, zw_hi.s23);
+  PF_REF_AT(F, idx[4]) += (float4)(xy_lo.s45, zw_lo.s45);
+  PF_REF_AT(F, idx[5]) += (float4)(xy_lo.s67, zw_lo.s67);
+  PF_REF_AT(F, idx[6]) += (float4)(xy_hi.s45, zw_hi.s45);
+  PF_REF_AT(F, idx[7]) += (float4)(xy_hi.s67, zw_hi.s67);
 }
 
-/* The float4s X[idx[0..7]] (idx in private memory) as lane vectors: pf_gather8. */
+/* The float4s of entries idx[0..7] (in private memory) of X as lane vectors: pf_gather8. */
 void pf_gather8_private(__global const float4* X, const uint* idx, float8* x, float8* y, float8* z, float8* w) {
-  const float8 a = (float8)(X[idx[0]], X[idx[4]]), b = (float8)(X[idx[1]], X[idx[5]]);
-  const float8 c = (float8)(X[idx[2]], X[idx[6]]), d = (float8)(X[idx[3]], X[idx[7]]);
+  const float8 a = (float8)(PF_LOAD_AT(X, idx[0]), PF_LOAD_AT(X, idx[4]));
+  const float8 b = (float8)(PF_LOAD_AT(X, idx[1]), PF_LOAD_AT(X, idx[5]));
+  const float8 c = (float8)(PF_LOAD_AT(X, idx[2]), PF_LOAD_AT(X, idx[6]));
+  const float8 d = (float8)(PF_LOAD_AT(X, idx[3]), PF_LOAD_AT(X, idx[7]));
   const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
   const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
   const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
@@ -856,7 +875,7 @@ void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uin
     const uint at = q->count;
 #if defined(PF_MASK8)
     const uchar mask = PF_MASK8(near);
-    vstore8((uint8)(i), 0, q->i + at);
+    vstore8((uint8)(PF_ENTRY(i)), 0, q->i + at);
     vstore8(PF_PACK8U(vload8(0, row + k), mask), 0, q->j + at);
     vstore8(PF_PACK8F(dx, mask), 0, q->dx + at);
     vstore8(PF_PACK8F(dy, mask), 0, q->dy + at);
@@ -874,7 +893,7 @@ void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uin
     uint c = at;
     for (uint l = 0; l < 8u; ++l) {
       if (m[l] == 0) continue;
-      q->i[c] = i;
+      q->i[c] = PF_ENTRY(i);
       q->j[c] = row[k + l];
       q->dx[c] = ox[l];
       q->dy[c] = oy[l];
