@@ -222,16 +222,33 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
   return total;
 }
 
-/* any() of an 8-lane mask: with AVX-512VL the lanes' sign bits as a mask
- * register, tested at once; elsewhere two ORs and one test (PoCL makes
- * four branches of any()). */
-bool pf_any8(int8 m) {
+/* With AVX-512VL, an 8-lane mask's sign bits as the bits of a mask
+ * register (PF_MASK8), which one instruction tests or counts. */
 #if defined(__AVX512VL__)
-  return __builtin_ia32_cvtd2mask256(m) != 0;
+#define PF_MASK8(m) __builtin_ia32_cvtd2mask256(m)
+#endif
+
+/* any() of an 8-lane mask: a mask-register test with AVX-512VL; elsewhere
+ * two ORs and one test (PoCL makes four branches of any()). */
+bool pf_any8(int8 m) {
+#if defined(PF_MASK8)
+  return PF_MASK8(m) != 0;
 #else
   const int4 a = m.lo | m.hi;
   const int2 b = a.lo | a.hi;
   return (b.x | b.y) < 0;
+#endif
+}
+
+/* The set lanes of an 8-lane mask: a popcount of the mask register with
+ * AVX-512VL; elsewhere summed as floats (oclgrind 1.x mis-sums the lanes
+ * of integer masks). */
+uint pf_count8(int8 m) {
+#if defined(PF_MASK8)
+  return popcount((uint)PF_MASK8(m));
+#else
+  const float8 hit = select((float8)(0.0f), (float8)(1.0f), m);
+  return (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
 #endif
 }
 
@@ -615,16 +632,22 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
                    int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
+#if PF_NEWTON
+  /* half the stencil: the cell itself (partners j > i) and the 13
+   * neighbours after it in (z, y, x) order; a pair of cells meets once.
+   * The loops start at the cell itself, so no reach test is spent on the
+   * other half. */
+  for (int cz = c.z; cz <= hi.z; ++cz)
+    for (int cy = cz == c.z ? c.y : lo.y; cy <= hi.y; ++cy)
+      for (int cx = cz == c.z && cy == c.y ? c.x : lo.x; cx <= hi.x; ++cx) {
+        const bool own = cz == c.z && cy == c.y && cx == c.x;
+        if (!own && !pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+        const uint8 j_min = (uint8)(own ? i + 1u : 0u);
+#else
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
-#if PF_NEWTON
-        /* half the stencil: the cell itself (partners j > i) and the 13
-         * neighbours after it in (z, y, x) order; a pair of cells meets once */
-        const int offset = ((cz - c.z) * 3 + (cy - c.y)) * 3 + (cx - c.x);
-        if (offset < 0) continue;
-        const uint8 j_min = (uint8)(offset == 0 ? i + 1u : 0u);
 #endif
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
         const uint m = pf_cell_listed(counts, cell, bits);
@@ -641,9 +664,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const int8 partner = jj != (uint8)(i);
 #endif
           const int8 near = (lane < (int8)((int)m)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
-          /* counted as floats: oclgrind (1.x) mis-sums lanes of integer masks */
-          const float8 hit = select((float8)(0.0f), (float8)(1.0f), near);
-          const uint hits = (uint)(hit.s0 + hit.s1 + hit.s2 + hit.s3 + hit.s4 + hit.s5 + hit.s6 + hit.s7);
+          const uint hits = pf_count8(near);
           if (hits == 0u) continue;
           const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj << 4u, near)); /* as entries (PF_ENTRY) */
           if (found + 8u <= PF_LIST_CAP) {
@@ -774,9 +795,8 @@ typedef struct {
   uint count;
 } pf_queue;
 
-/* The lanes of `near` (as an 8-bit mask) of v, packed to the front. */
+/* The lanes of v where `mask` is set (PF_MASK8), packed to the front. */
 #if defined(__AVX512VL__)
-#define PF_MASK8(m) __builtin_ia32_cvtd2mask256(m)
 #define PF_PACK8F(v, mask) __builtin_ia32_compresssf256_mask((v), (float8)(0.0f), (mask))
 #define PF_PACK8U(v, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), (int8)(0), (mask)))
 #endif
