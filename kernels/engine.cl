@@ -222,9 +222,19 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
   return total;
 }
 
+/* Clang's x86 builtins, where the kernel compiler targets x86 (PoCL on a
+ * CPU defines the target's feature macros): PF_X86_AVX512 with AVX-512VL,
+ * PF_X86_AVX with AVX. Everything that uses them has a plain OpenCL C
+ * fallback, which oclgrind runs in ctest. */
+#if defined(__clang__) && defined(__x86_64__) && defined(__AVX512VL__)
+#define PF_X86_AVX512 1
+#elif defined(__clang__) && defined(__x86_64__) && defined(__AVX__)
+#define PF_X86_AVX 1
+#endif
+
 /* With AVX-512VL, an 8-lane mask's sign bits as the bits of a mask
  * register (PF_MASK8), which one instruction tests or counts. */
-#if defined(__AVX512VL__)
+#if defined(PF_X86_AVX512)
 #define PF_MASK8(m) __builtin_ia32_cvtd2mask256(m)
 #endif
 
@@ -258,14 +268,14 @@ uint pf_count8(int8 m) {
  * compiles rsqrt() and native_rsqrt() to a square root and a division, the
  * two slowest instructions of the pair loop (one unit, not pipelined). */
 float8 pf_rsqrt8(float8 x) {
-#if defined(__AVX512VL__)
+#if defined(PF_X86_AVX512)
   const float8 y = __builtin_ia32_rsqrt14ps256_mask(x, (float8)(0.0f), (uchar)0xff);
-#elif defined(__AVX__)
+#elif defined(PF_X86_AVX)
   const float8 y = __builtin_ia32_rsqrtps256(x);
 #else
   return rsqrt(x);
 #endif
-#if defined(__AVX512VL__) || defined(__AVX__)
+#if defined(PF_X86_AVX512) || defined(PF_X86_AVX)
   return y * (1.5f - 0.5f * x * y * y);
 #endif
 }
@@ -801,7 +811,7 @@ typedef struct {
 } pf_queue;
 
 /* The lanes of v where `mask` is set (PF_MASK8), packed to the front. */
-#if defined(__AVX512VL__)
+#if defined(PF_X86_AVX512)
 #define PF_PACK8F(v, mask) __builtin_ia32_compresssf256_mask((v), (float8)(0.0f), (mask))
 #define PF_PACK8U(v, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), (int8)(0), (mask)))
 #endif
