@@ -13,10 +13,10 @@
 // cells first (Engine::sort_by_cells, as a large system should be; --no-sort
 // keeps the lattice's row order). Each line also gives the share of steps
 // that rebuilt the neighbour lists and the update's time on those and on
-// the others. --work-group, --force-buffers, --newton (on, off) and
-// --step-form (cpu, gpu) set EngineParams' values.
+// the others. --work-group, --force-buffers, --newton (on, off),
+// --pair-queue (on, off) and --step-form (cpu, gpu) set EngineParams' values.
 //
-//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]
+//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -392,7 +392,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
       return 2;
     }
   }

@@ -281,16 +281,11 @@ float8 pf_rsqrt8(float8 x) {
 }
 
 #if !PF_GPU_FORM
-/* The float4s of row entries row[0..7] (PF_ENTRY) of X as four lane
- * vectors (their x, y, z and w): 8 loads and a 4x4 transpose in each
- * 128-bit half (element by element, PoCL spends a broadcast and a blend on
- * each of the 32 lanes). The entries are read from memory as scalars:
- * taking them out of a vector costs more instructions. */
-void pf_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
-  const float8 a = (float8)(PF_LOAD_AT(X, row[0]), PF_LOAD_AT(X, row[4]));
-  const float8 b = (float8)(PF_LOAD_AT(X, row[1]), PF_LOAD_AT(X, row[5]));
-  const float8 c = (float8)(PF_LOAD_AT(X, row[2]), PF_LOAD_AT(X, row[6]));
-  const float8 d = (float8)(PF_LOAD_AT(X, row[3]), PF_LOAD_AT(X, row[7]));
+/* Eight float4s p[0..7] as four lane vectors (their x, y, z and w): a 4x4
+ * transpose in each 128-bit half (element by element, PoCL spends a
+ * broadcast and a blend on each of the 32 lanes). */
+void pf_transpose8(const float4* p, float8* x, float8* y, float8* z, float8* w) {
+  const float8 a = (float8)(p[0], p[4]), b = (float8)(p[1], p[5]), c = (float8)(p[2], p[6]), d = (float8)(p[3], p[7]);
   const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
   const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
   const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
@@ -299,6 +294,32 @@ void pf_gather8(__global const float4* X, __global const uint* row, float8* x, f
   *y = (float8)(ab_lo.s23, cd_lo.s23, ab_lo.s67, cd_lo.s67);
   *z = (float8)(ab_hi.s01, cd_hi.s01, ab_hi.s45, cd_hi.s45);
   *w = (float8)(ab_hi.s23, cd_hi.s23, ab_hi.s67, cd_hi.s67);
+}
+
+/* pf_transpose8 backwards: lane l of (gx, gy, gz, gw) as p[l]. */
+void pf_untranspose8(float8 gx, float8 gy, float8 gz, float8 gw, float4* p) {
+  const float8 xy_lo = (float8)(gx.s0, gy.s0, gx.s1, gy.s1, gx.s4, gy.s4, gx.s5, gy.s5);
+  const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
+  const float8 zw_lo = (float8)(gz.s0, gw.s0, gz.s1, gw.s1, gz.s4, gw.s4, gz.s5, gw.s5);
+  const float8 zw_hi = (float8)(gz.s2, gw.s2, gz.s3, gw.s3, gz.s6, gw.s6, gz.s7, gw.s7);
+  p[0] = (float4)(xy_lo.s01, zw_lo.s01);
+  p[1] = (float4)(xy_lo.s23, zw_lo.s23);
+  p[2] = (float4)(xy_hi.s01, zw_hi.s01);
+  p[3] = (float4)(xy_hi.s23, zw_hi.s23);
+  p[4] = (float4)(xy_lo.s45, zw_lo.s45);
+  p[5] = (float4)(xy_lo.s67, zw_lo.s67);
+  p[6] = (float4)(xy_hi.s45, zw_hi.s45);
+  p[7] = (float4)(xy_hi.s67, zw_hi.s67);
+}
+
+/* The float4s of X at row entries row[0..7] (PF_ENTRY) as lane vectors.
+ * The entries are read from memory as scalars: taking them out of a
+ * vector costs more instructions. */
+void pf_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
+  float4 p[8];
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) p[l] = PF_LOAD_AT(X, row[l]);
+  pf_transpose8(p, x, y, z, w);
 }
 #endif
 
@@ -702,23 +723,14 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
 #endif
 
 #if !PF_GPU_FORM
-/* F at entry jj[l] (PF_ENTRY) -= (gx, gy, gz, 0).sl for the 8 lanes: pf_gather8's transpose
- * backwards, then one read-modify-write a lane (the lanes' indices differ,
- * except lanes past a row's end, which hold stale indices and a zero
- * force). */
+/* F at entry jj[l] (PF_ENTRY) -= (gx, gy, gz, 0).sl for the 8 lanes, one
+ * read-modify-write a lane (the lanes' entries differ, except lanes past a
+ * row's end, which hold stale entries and a zero force). */
 void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, float8 gy, float8 gz) {
-  const float8 xy_lo = (float8)(gx.s0, gy.s0, gx.s1, gy.s1, gx.s4, gy.s4, gx.s5, gy.s5);
-  const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
-  const float8 z_lo = (float8)(gz.s0, 0.0f, gz.s1, 0.0f, gz.s4, 0.0f, gz.s5, 0.0f);
-  const float8 z_hi = (float8)(gz.s2, 0.0f, gz.s3, 0.0f, gz.s6, 0.0f, gz.s7, 0.0f);
-  PF_REF_AT(F, jj[0]) -= (float4)(xy_lo.s01, z_lo.s01);
-  PF_REF_AT(F, jj[1]) -= (float4)(xy_lo.s23, z_lo.s23);
-  PF_REF_AT(F, jj[4]) -= (float4)(xy_lo.s45, z_lo.s45);
-  PF_REF_AT(F, jj[5]) -= (float4)(xy_lo.s67, z_lo.s67);
-  PF_REF_AT(F, jj[2]) -= (float4)(xy_hi.s01, z_hi.s01);
-  PF_REF_AT(F, jj[3]) -= (float4)(xy_hi.s23, z_hi.s23);
-  PF_REF_AT(F, jj[6]) -= (float4)(xy_hi.s45, z_hi.s45);
-  PF_REF_AT(F, jj[7]) -= (float4)(xy_hi.s67, z_hi.s67);
+  float4 p[8];
+  pf_untranspose8(gx, gy, gz, (float8)(0.0f), p);
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) PF_REF_AT(F, jj[l]) -= p[l];
 }
 
 /* The pairs in particle i's list, 8 entries at a time as float8 vectors.
@@ -816,38 +828,22 @@ typedef struct {
 #define PF_PACK8U(v, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), (int8)(0), (mask)))
 #endif
 
-/* F at entry idx[l] (PF_ENTRY) += (gx, gy, gz, gw).sl for the 8 lanes, one
- * read-modify-write a lane in lane order (so repeated indices add up):
- * pf_gather8's transpose backwards. */
+/* F at entry idx[l] (PF_ENTRY, in private memory) += (gx, gy, gz, gw).sl
+ * for the 8 lanes, one read-modify-write a lane in lane order (so repeated
+ * entries add up). */
 void pf_scatter_add8(__global float4* F, const uint* idx, float8 gx, float8 gy, float8 gz, float8 gw) {
-  const float8 xy_lo = (float8)(gx.s0, gy.s0, gx.s1, gy.s1, gx.s4, gy.s4, gx.s5, gy.s5);
-  const float8 xy_hi = (float8)(gx.s2, gy.s2, gx.s3, gy.s3, gx.s6, gy.s6, gx.s7, gy.s7);
-  const float8 zw_lo = (float8)(gz.s0, gw.s0, gz.s1, gw.s1, gz.s4, gw.s4, gz.s5, gw.s5);
-  const float8 zw_hi = (float8)(gz.s2, gw.s2, gz.s3, gw.s3, gz.s6, gw.s6, gz.s7, gw.s7);
-  PF_REF_AT(F, idx[0]) += (float4)(xy_lo.s01, zw_lo.s01);
-  PF_REF_AT(F, idx[1]) += (float4)(xy_lo.s23, zw_lo.s23);
-  PF_REF_AT(F, idx[2]) += (float4)(xy_hi.s01, zw_hi.s01);
-  PF_REF_AT(F, idx[3]) += (float4)(xy_hi.s23, zw_hi.s23);
-  PF_REF_AT(F, idx[4]) += (float4)(xy_lo.s45, zw_lo.s45);
-  PF_REF_AT(F, idx[5]) += (float4)(xy_lo.s67, zw_lo.s67);
-  PF_REF_AT(F, idx[6]) += (float4)(xy_hi.s45, zw_hi.s45);
-  PF_REF_AT(F, idx[7]) += (float4)(xy_hi.s67, zw_hi.s67);
+  float4 p[8];
+  pf_untranspose8(gx, gy, gz, gw, p);
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) PF_REF_AT(F, idx[l]) += p[l];
 }
 
-/* The float4s of entries idx[0..7] (in private memory) of X as lane vectors: pf_gather8. */
+/* The float4s of X at entries idx[0..7] (in private memory) as lane vectors. */
 void pf_gather8_private(__global const float4* X, const uint* idx, float8* x, float8* y, float8* z, float8* w) {
-  const float8 a = (float8)(PF_LOAD_AT(X, idx[0]), PF_LOAD_AT(X, idx[4]));
-  const float8 b = (float8)(PF_LOAD_AT(X, idx[1]), PF_LOAD_AT(X, idx[5]));
-  const float8 c = (float8)(PF_LOAD_AT(X, idx[2]), PF_LOAD_AT(X, idx[6]));
-  const float8 d = (float8)(PF_LOAD_AT(X, idx[3]), PF_LOAD_AT(X, idx[7]));
-  const float8 ab_lo = (float8)(a.s0, b.s0, a.s1, b.s1, a.s4, b.s4, a.s5, b.s5);
-  const float8 ab_hi = (float8)(a.s2, b.s2, a.s3, b.s3, a.s6, b.s6, a.s7, b.s7);
-  const float8 cd_lo = (float8)(c.s0, d.s0, c.s1, d.s1, c.s4, d.s4, c.s5, d.s5);
-  const float8 cd_hi = (float8)(c.s2, d.s2, c.s3, d.s3, c.s6, d.s6, c.s7, d.s7);
-  *x = (float8)(ab_lo.s01, cd_lo.s01, ab_lo.s45, cd_lo.s45);
-  *y = (float8)(ab_lo.s23, cd_lo.s23, ab_lo.s67, cd_lo.s67);
-  *z = (float8)(ab_hi.s01, cd_hi.s01, ab_hi.s45, cd_hi.s45);
-  *w = (float8)(ab_hi.s23, cd_hi.s23, ab_hi.s67, cd_hi.s67);
+  float4 p[8];
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) p[l] = PF_LOAD_AT(X, idx[l]);
+  pf_transpose8(p, x, y, z, w);
 }
 
 /* The forces of the first `valid` (1..8) queued pairs, added to F (see
