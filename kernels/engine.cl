@@ -701,7 +701,15 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const int8 near = (lane < (int8)((int)m)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
           const uint hits = pf_count8(near);
           if (hits == 0u) continue;
-          const uint8 sorted = pf_sort8(select((uint8)(UINT_MAX), jj << 4u, near)); /* as entries (PF_ENTRY) */
+          const uint8 entries = select((uint8)(UINT_MAX), jj << 4u, near); /* as entries (PF_ENTRY) */
+          if (hits == 1u) { /* the common case in small cells: the one entry, no sorting network */
+            const uint4 m4 = min(entries.lo, entries.hi);
+            const uint2 m2 = min(m4.lo, m4.hi);
+            if (found < PF_LIST_CAP) PF_AT(row, found) = min(m2.x, m2.y);
+            ++found;
+            continue;
+          }
+          const uint8 sorted = pf_sort8(entries);
           if (found + 8u <= PF_LIST_CAP) {
             /* the non-neighbours sorted last become i: a row holds entries only */
             vstore8(select((uint8)(PF_ENTRY(i)), sorted, sorted != (uint8)(UINT_MAX)), 0, row + found);
