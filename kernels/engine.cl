@@ -47,8 +47,11 @@
  * at once; `advance` adds the buffers up and zeroes them. That costs
  * `advance` a read of every buffer for every particle, so on many cores
  * (EngineParams::newton) each pair is listed twice instead and pair_forces
- * writes each particle's force once. On GPUs (PF_GPU_FORM 1) `advance`
- * sums each particle's forces over its full list, one pair at a time.
+ * writes each particle's force once. With PF_PAIR_QUEUE (purely repulsive
+ * potentials: short rows, few entries in reach) the rows are only tested
+ * and the entries in reach queued, then computed 8 pairs at a time across
+ * rows (pf_queue_push). On GPUs (PF_GPU_FORM 1) `advance` sums each
+ * particle's forces over its full list, one pair at a time.
  *
  * Per-step scalars (kinetic energy, speeds, counts: one float8 record a
  * particle, pf_record_merge combines two) are reduced without a launch of
