@@ -745,18 +745,15 @@ void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, flo
 }
 
 /* The pairs in particle i's list, 8 entries at a time as float8 vectors.
- * Returns the force on i, with w = the overlapping pairs it counts, and
- * in *acted whether any entry was within reach (else the force is 0 and
- * the horizontal sums are skipped: most rows of a loose packing). With
+ * Returns the force on i, with w = the overlapping pairs it counts. With
  * PF_NEWTON (each pair in one of its two particles' lists) the force on
  * each partner j is also subtracted from F[j] (Newton's third law) and
  * every listed overlap counts; without, only those with j > i. */
 float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count, __global const float4* X,
-                     __global const float4* V, __global float4* F, bool* acted) {
+                     __global const float4* V, __global float4* F) {
   const float ri = xi.w, inv_mi = vi.w;
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair */
-  bool any_near = false;
   for (uint k = 0; k < count; k += 8u) {
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
     const int8 valid = lane < (int8)((int)count);
@@ -773,7 +770,6 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
     const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
     if (!pf_any8(near)) continue;
-    any_near = true;
     d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
     const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
     if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
@@ -809,8 +805,6 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     pf_scatter_sub8(F, row + k, gx, gy, gz);
 #endif
   }
-  *acted = any_near;
-  if (!any_near) return (float4)(0.0f);
   const int4 o4 = overlaps.lo + overlaps.hi;
   const int2 o2 = o4.lo + o4.hi;
   const float4 hx = fx.lo + fx.hi, hy = fy.lo + fy.hi, hz = fz.lo + fz.hi;
@@ -1004,9 +998,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
 #if PF_PAIR_QUEUE
     pf_queue_push(&q, i, xi, row, count, X, V, Fw);
 #else
-    bool acted = false;
-    const float4 f = pf_row_forces(i, xi, V[i], row, count, X, V, Fw, &acted);
-    if (acted) Fw[i] += f;
+    Fw[i] += pf_row_forces(i, xi, V[i], row, count, X, V, Fw);
 #endif
   }
 #if PF_PAIR_QUEUE
