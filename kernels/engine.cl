@@ -744,6 +744,40 @@ void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, flo
   for (uint l = 0; l < 8u; ++l) PF_REF_AT(F, jj[l]) -= p[l];
 }
 
+/* The potential's part of 8 pairs' forces on their first particles, as
+ * the scale k of F = k d (d = x_i - x_j; pf_lj_force_scale8, zero beyond
+ * the cutoff and where not `near`; d2 finite in every lane). Pairs on top
+ * of each other get a fixed, antisymmetric direction (its sign from
+ * jj > i_entry), written back to d and d2. *inv_d: 1/|d|. Shared by the
+ * row loop and the pair queue, so both compute the same forces. */
+float8 pf_potential8(float8* dx, float8* dy, float8* dz, float8* d2, int8 near, uint8 i_entry, uint8 jj,
+                     float8* inv_d) {
+  const int8 tiny = near & (*d2 < PF_D_MIN * PF_D_MIN);
+  if (pf_any8(tiny)) {
+    *dx = select(*dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > i_entry), tiny);
+    *dy = select(*dy, (float8)(0.0f), tiny);
+    *dz = select(*dz, (float8)(0.0f), tiny);
+    *d2 = select(*d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
+  }
+  /* 1/d^2 by a division, beside (not after) the square root: a shorter chain */
+  *inv_d = pf_rsqrt8(*d2);
+  const float8 inv_d2 = 1.0f / *d2;
+  return select((float8)(0.0f), pf_lj_force_scale8(inv_d2, *inv_d), near & (*d2 < PF_RC2));
+}
+
+/* The dashpots of the `contact` lanes (physics.cl pf_contact_damping, 8
+ * lanes) added to g, from d, 1/|d| and both sides' velocities and inverse
+ * masses. */
+void pf_dashpots8(float8 dx, float8 dy, float8 dz, float8 inv_d, float8 uix, float8 uiy, float8 uiz, float8 imi,
+                  float8 ujx, float8 ujy, float8 ujz, float8 imj, int8 contact, float8* gx, float8* gy, float8* gz) {
+  const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+  const float8 un = (uix - ujx) * nx + (uiy - ujy) * ny + (uiz - ujz) * nz;
+  const float8 cf = select((float8)(0.0f), -PF_DASHPOT * pf_rsqrt8(imi + imj) * un, contact);
+  *gx += cf * nx;
+  *gy += cf * ny;
+  *gz += cf * nz;
+}
+
 /* The pairs in particle i's list, 8 entries at a time as float8 vectors.
  * Returns the force on i, with w = the overlapping pairs it counts. With
  * PF_NEWTON (each pair in one of its two particles' lists) the force on
@@ -771,27 +805,14 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
     if (!pf_any8(near)) continue;
     d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
-    const int8 tiny = near & (d2 < PF_D_MIN * PF_D_MIN);
-    if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
-      dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > (uint8)(PF_ENTRY(i))), tiny);
-      dy = select(dy, (float8)(0.0f), tiny);
-      dz = select(dz, (float8)(0.0f), tiny);
-      d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
-    }
-    /* 1/d^2 by a division, beside (not after) the square root: a shorter chain */
-    const float8 inv_d = pf_rsqrt8(d2), inv_d2 = 1.0f / d2;
-    const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), near & (d2 < PF_RC2));
+    float8 inv_d;
+    const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, near, (uint8)(PF_ENTRY(i)), jj, &inv_d);
     float8 gx = kf * dx, gy = kf * dy, gz = kf * dz;
     const int8 contact = near & (d2 < touch2);
-    if (pf_any8(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+    if (pf_any8(contact)) {
       float8 vx, vy, vz, imj;
       pf_gather8(V, row + k, &vx, &vy, &vz, &imj);
-      const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-      const float8 un = (vi.x - vx) * nx + (vi.y - vy) * ny + (vi.z - vz) * nz;
-      const float8 cf = select((float8)(0.0f), -PF_DASHPOT * pf_rsqrt8(inv_mi + imj) * un, contact);
-      gx += cf * nx;
-      gy += cf * ny;
-      gz += cf * nz;
+      pf_dashpots8(dx, dy, dz, inv_d, vi.x, vi.y, vi.z, inv_mi, vx, vy, vz, imj, contact, &gx, &gy, &gz);
 #if PF_NEWTON
       overlaps += contact & (d2 < rs * rs);
 #else
@@ -851,8 +872,8 @@ void pf_gather8_private(__global const float4* X, const uint* idx, float8* x, fl
   pf_transpose8(p, x, y, z, w);
 }
 
-/* The forces of the first `valid` (1..8) queued pairs, added to F (see
- * pf_row_forces for the physics: the same formulas lane by lane). */
+/* The forces of the first `valid` (1..8) queued pairs, added to F (the
+ * physics of pf_row_forces: pf_potential8 and pf_dashpots8). */
 void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global float4* F) {
   const int8 ok = (int8)(0, 1, 2, 3, 4, 5, 6, 7) < (int8)((int)valid);
   const uint8 ii = vload8(0, q->i), jj = vload8(0, q->j);
@@ -860,28 +881,15 @@ void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global
   const float8 rs = vload8(0, q->rs);
   const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
   float8 d2 = select((float8)(1.0f), dx * dx + dy * dy + dz * dz, ok); /* unused lanes stay finite */
-  const int8 tiny = ok & (d2 < PF_D_MIN * PF_D_MIN);
-  if (pf_any8(tiny)) { /* on top of each other: a fixed, antisymmetric direction */
-    dx = select(dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > ii), tiny);
-    dy = select(dy, (float8)(0.0f), tiny);
-    dz = select(dz, (float8)(0.0f), tiny);
-    d2 = select(d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
-  }
-  /* 1/d^2 by a division, beside (not after) the square root: a shorter chain */
-  const float8 inv_d = pf_rsqrt8(d2), inv_d2 = 1.0f / d2;
-  const float8 kf = select((float8)(0.0f), pf_lj_force_scale8(inv_d2, inv_d), ok & (d2 < PF_RC2));
+  float8 inv_d;
+  const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, ok, ii, jj, &inv_d);
   float8 gx = kf * dx, gy = kf * dy, gz = kf * dz, gw = (float8)(0.0f);
   const int8 contact = ok & (d2 < touch2);
-  if (pf_any8(contact)) { /* dashpots (physics.cl pf_contact_damping, 8 lanes) */
+  if (pf_any8(contact)) {
     float8 vix, viy, viz, imi, vjx, vjy, vjz, imj;
     pf_gather8_private(V, q->i, &vix, &viy, &viz, &imi);
     pf_gather8_private(V, q->j, &vjx, &vjy, &vjz, &imj);
-    const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-    const float8 un = (vix - vjx) * nx + (viy - vjy) * ny + (viz - vjz) * nz;
-    const float8 cf = select((float8)(0.0f), -PF_DASHPOT * pf_rsqrt8(imi + imj) * un, contact);
-    gx += cf * nx;
-    gy += cf * ny;
-    gz += cf * nz;
+    pf_dashpots8(dx, dy, dz, inv_d, vix, viy, viz, imi, vjx, vjy, vjz, imj, contact, &gx, &gy, &gz);
 #if PF_NEWTON
     gw = select((float8)(0.0f), (float8)(1.0f), contact & (d2 < rs * rs));
 #else
