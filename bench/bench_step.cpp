@@ -14,7 +14,8 @@
 // keeps the lattice's row order). Each line also gives the share of steps
 // that rebuilt the neighbour lists and the update's time on those and on
 // the others. --work-group, --force-buffers, --newton (on, off),
-// --pair-queue (on, off) and --step-form (cpu, gpu) set EngineParams' values.
+// --pair-queue (on, off), --step-form (cpu, gpu) and --skin (every case's
+// list skin, in sigma) set EngineParams' values.
 //
 //   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]
 #include <algorithm>
@@ -244,6 +245,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   nlohmann::json j;
   j["n"] = c.n;
   j["cutoff"] = c.cutoff_sigma > 0 ? "2.5 sigma" : "repulsive";
+  j["skin_sigma"] = p.skin_sigma;
   j["sorted_by_cells"] = sort_cells;
   j["mode"] = c.births ? "steps/s, history read every 50 steps, one birth and one removal a step (N-1 particles)"
                        : c.small ? "steps/s, history read every 50 steps" : "particle-steps/s, no reads";
@@ -268,9 +270,10 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 // field, two birth sites, a birth attempt at each every 3 steps when no
 // centre is within one radius of the site (in the snapshot read every 8
 // steps, plus the newborns since then, flying straight), newborns at
-// 0.5-1.0 of the top speed (0.1 sigma a step, dt 0.01 tau), purely
-// repulsive, growing to `target` particles, renumbered along the cells
-// every 1,024 steps (FillOptions::sort_every). Reports steps/s over the whole
+// FillOptions' speeds (birth_speed_min to _max of the top speed, 0.1
+// sigma a step, dt 0.01 tau) and skin, purely repulsive, growing to
+// `target` particles, renumbered along the cells every
+// FillOptions::sort_every steps. Reports steps/s over the whole
 // growth, the share of steps that rebuilt the neighbour lists, and the
 // per-kernel times from a second, profiled run of the same growth.
 nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, double skin_sigma, bool field_image) {
@@ -317,7 +320,8 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
             Particle b;
             b.position = site;
             b.radius = kRadius;
-            b.velocity = dir / length(dir) * (top * (0.5 + 0.5 * uni(rng)));
+            const FillOptions fo;
+            b.velocity = dir / length(dir) * (top * (fo.birth_speed_min + (fo.birth_speed_max - fo.birth_speed_min) * uni(rng)));
             engine.add_particle(b);
             newborns.push_back({b.position, b.velocity, engine.steps_done()});
           }
@@ -370,7 +374,7 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
 
 int main(int argc, char** argv) {
   bool big = false, quick = false, fill_only = false, field_image = false;
-  double skin = 0.3;  // the fill's default (FillOptions::skin)
+  double skin = 0;  // --skin: every case's; 0: EngineParams' default, and FillOptions' for the fill case
   size_t only = 0;
   std::string json_path;
   for (int i = 1; i < argc; ++i) {
@@ -378,7 +382,7 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--quick")) quick = true;
     else if (!std::strcmp(argv[i], "--fill")) fill_only = true;
     else if (!std::strcmp(argv[i], "--field-image")) field_image = true;
-    else if (!std::strcmp(argv[i], "--skin") && i + 1 < argc) skin = std::strtod(argv[++i], nullptr);
+    else if (!std::strcmp(argv[i], "--skin") && i + 1 < argc) tuning.skin_sigma = skin = std::strtod(argv[++i], nullptr);
     else if (!std::strcmp(argv[i], "--work-group") && i + 1 < argc) tuning.work_group = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--force-buffers") && i + 1 < argc)
       tuning.force_buffers = std::strtoul(argv[++i], nullptr, 10);
@@ -415,7 +419,7 @@ int main(int argc, char** argv) {
     if (field_image) fields.push_back(true);
     auto label = [&](bool image) { return field_image ? (image ? "[image]  " : "[buffer] ") : ""; };
     if (!only || only == 4000 || fill_only) for (bool image : fields) {
-      nlohmann::json j = run_fill_case(device, profiled, quick ? 2000 : 4000, skin, image);
+      nlohmann::json j = run_fill_case(device, profiled, quick ? 2000 : 4000, skin > 0 ? skin : FillOptions{}.skin, image);
       j["field"] = image ? "image" : "buffer";
       std::printf("%sfill regime: 0 -> %zu particles in %llu steps, %.2f s: %8.0f steps/s %9.1f us/step, lists rebuilt on %.0f%% of steps  kernels(us/step):",
                   label(image), j["n"].get<size_t>(), static_cast<unsigned long long>(j["steps"].get<uint64_t>()), j["seconds"].get<double>(),

@@ -239,6 +239,10 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
  * register (PF_MASK8), which one instruction tests or counts. */
 #if defined(PF_X86_AVX512)
 #define PF_MASK8(m) __builtin_ia32_cvtd2mask256(m)
+/* The lanes of v where `mask` (a PF_MASK8) is set, packed to the front;
+ * the lanes after them are fill's. */
+#define PF_PACK8F(v, fill, mask) __builtin_ia32_compresssf256_mask((v), (fill), (mask))
+#define PF_PACK8U(v, fill, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), as_int8(fill), (mask)))
 #endif
 
 /* any() of an 8-lane mask: a mask-register test with AVX-512VL; elsewhere
@@ -580,24 +584,26 @@ void pf_sort_row(__global uint* row, uint count) {
   }
 }
 
-/* One compare-exchange stage of a bitonic sorting network over 8 lanes:
- * each lane meets the lane `partner` (a swizzle of v) and keeps the smaller
- * value where take_lo is set, the larger elsewhere. */
-#define PF_SORT_STAGE(v, partner, take_lo) \
-  do { \
-    const uint8 p_ = (partner); \
-    v = select(max(v, p_), min(v, p_), (take_lo)); \
-  } while (0)
-
-/* The 8 lanes of v in ascending order (bitonic network, 6 stages). */
-uint8 pf_sort8(uint8 v) {
-  PF_SORT_STAGE(v, v.s10325476, (int8)(-1, 0, 0, -1, -1, 0, 0, -1));
-  PF_SORT_STAGE(v, v.s23016745, (int8)(-1, -1, 0, 0, 0, 0, -1, -1));
-  PF_SORT_STAGE(v, v.s10325476, (int8)(-1, 0, -1, 0, 0, -1, 0, -1));
-  PF_SORT_STAGE(v, v.s45670123, (int8)(-1, -1, -1, -1, 0, 0, 0, 0));
-  PF_SORT_STAGE(v, v.s23016745, (int8)(-1, -1, 0, 0, -1, -1, 0, 0));
-  PF_SORT_STAGE(v, v.s10325476, (int8)(-1, 0, -1, 0, -1, 0, -1, 0));
-  return v;
+/* The entries of the lanes where `hit` is set, in lane order, stored
+ * from row[found] on (none at or past PF_LIST_CAP). With AVX-512 they are
+ * packed in a register and stored as one vector, padded with `pad` (an
+ * entry of the row's own particle: a row holds entries only). */
+void pf_store_hits8(__global uint* row, uint found, uint8 entries, int8 hit, uint pad) {
+#if defined(PF_MASK8)
+  if (found + 8u <= PF_LIST_CAP) {
+    vstore8(PF_PACK8U(entries, (uint8)(pad), PF_MASK8(hit)), 0, row + found);
+    return;
+  }
+#endif
+  uint e[8];
+  int h[8];
+  vstore8(entries, 0, e);
+  vstore8(hit, 0, h);
+  for (uint l = 0; l < 8u; ++l) {
+    if (h[l] == 0) continue;
+    if (found < PF_LIST_CAP) PF_AT(row, found) = e[l];
+    ++found;
+  }
 }
 
 /* Whether the cell at offset (ox, oy, oz) from particle i's own cell may
@@ -653,78 +659,107 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   return found;
 }
 #else
-/* Rebuilds particle i's neighbour list from the cells: the j != i with
- * |x_i - x_j|^2 < PF_RL2; with PF_NEWTON only those in i's own cell with
- * j > i and in the 13 neighbour cells after it, so that each pair is
- * listed once (see pair_forces). Returns the count (capped at PF_LIST_CAP;
- * more set the overflow bit in *bits).
- *
- * Order: cell by cell in a fixed order, each cell's neighbours ascending by
- * index. The cells list particles in the order their atomic insertions
- * happened, which varies run to run on a multi-threaded device; this order
- * does not, so the forces sum in one order and the same input gives the
- * same particles. A chunk of 8 candidates is sorted in registers (the
- * lanes that are not neighbours become UINT_MAX and sort last) and stored
- * as one vector; a cell of more than 8 is sorted as a whole afterwards. */
-uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global const float* slots,
-                   int4 c, float4 frac, float cell_inv, int4 cell_dims, __global uint* row, uint* bits) {
-  uint found = 0u;
+/* The candidates of the CPU form's list builds for the particles of one
+ * cell: the particles of the cells of its stencil, copied once for the run
+ * of consecutive particles in that cell (as the particles lie after
+ * Engine::sort_by_cells) into contiguous arrays, so that each particle's
+ * build is one pass of 8-lane loads over them. With PF_NEWTON the stencil
+ * is half: the cell itself (its particles first, [0, own), partners j > i
+ * only) and the 13 cells after it in (z, y, x) order, so a pair of cells
+ * meets once; without, all 27 in (z, y, x) order. Each cell's particles are
+ * sorted by index (the cells hold them in the order of their atomic
+ * insertions, which varies run to run on a multi-threaded device), so the
+ * rows come out in one order and the same input gives the same particles. */
+#if PF_NEWTON
+#define PF_STENCIL_CELLS 14u
+#else
+#define PF_STENCIL_CELLS 27u
+#endif
+#define PF_STENCIL_CAP (PF_STENCIL_CELLS * PF_CELL_CAP + 8u) /* 8 lanes of slack past the last */
+typedef struct {
+  float x[PF_STENCIL_CAP], y[PF_STENCIL_CAP], z[PF_STENCIL_CAP];
+  uint e[PF_STENCIL_CAP]; /* as row entries (PF_ENTRY) */
+  uint count, own;        /* candidates; the cell's own ones ([0, own)) */
+  uint cell;              /* whose stencil (UINT_MAX: none yet) */
+  uint bits;              /* the overflow bit, where a cell of the stencil overflowed */
+} pf_stencil;
+
+/* Copies cell `cell`'s listed particles to the end of st's candidates, in index order. */
+void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const float* slots, uint cell) {
+  const uint m = pf_cell_listed(counts, cell, &st->bits), at = st->count;
+  __global const float* block = slots + cell * PF_BLOCK;
+  for (uint k = 0; k < m; k += 8u) { /* whole chunks; the lanes past m are overwritten or never read */
+    __global const float* chunk = block + 5u * k;
+    vstore8(vload8(0, chunk), 0, st->x + at + k);
+    vstore8(vload8(1, chunk), 0, st->y + at + k);
+    vstore8(vload8(2, chunk), 0, st->z + at + k);
+    vstore8(as_uint8(vload8(4, chunk)) << 4u, 0, st->e + at + k);
+  }
+  for (uint k = at + 1u; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
+    const uint e = st->e[k];
+    const float x = st->x[k], y = st->y[k], z = st->z[k];
+    uint q = k;
+    for (; q > at && st->e[q - 1u] > e; --q) {
+      st->e[q] = st->e[q - 1u];
+      st->x[q] = st->x[q - 1u];
+      st->y[q] = st->y[q - 1u];
+      st->z[q] = st->z[q - 1u];
+    }
+    st->e[q] = e;
+    st->x[q] = x;
+    st->y[q] = y;
+    st->z[q] = z;
+  }
+  st->count = at + m;
+}
+
+/* st becomes the stencil of the cell at coordinates c. */
+void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c,
+                       int4 cell_dims) {
+  st->count = 0u;
+  st->bits = 0u;
+  st->cell = pf_cell_index(c, cell_dims);
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
 #if PF_NEWTON
-  /* half the stencil: the cell itself (partners j > i) and the 13
-   * neighbours after it in (z, y, x) order; a pair of cells meets once.
-   * The loops start at the cell itself, so no reach test is spent on the
-   * other half. */
+  pf_stencil_add(st, counts, slots, st->cell);
+  st->own = st->count;
   for (int cz = c.z; cz <= hi.z; ++cz)
     for (int cy = cz == c.z ? c.y : lo.y; cy <= hi.y; ++cy)
-      for (int cx = cz == c.z && cy == c.y ? c.x : lo.x; cx <= hi.x; ++cx) {
-        const bool own = cz == c.z && cy == c.y && cx == c.x;
-        if (!own && !pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
-        const uint8 j_min = (uint8)(own ? i + 1u : 0u);
+      for (int cx = cz == c.z && cy == c.y ? c.x + 1 : lo.x; cx <= hi.x; ++cx)
+        pf_stencil_add(st, counts, slots, pf_cell_index((int4)(cx, cy, cz, 0), cell_dims));
 #else
+  st->own = 0u;
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
-      for (int cx = lo.x; cx <= hi.x; ++cx) {
-        if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
+      for (int cx = lo.x; cx <= hi.x; ++cx)
+        pf_stencil_add(st, counts, slots, pf_cell_index((int4)(cx, cy, cz, 0), cell_dims));
 #endif
-        const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
-        const uint m = pf_cell_listed(counts, cell, bits);
-        const uint cell_first = found;
-        __global const float* block = slots + cell * PF_BLOCK;
-        for (uint k = 0; k < m; k += 8u) {
-          __global const float* chunk = block + 5u * k; /* k is a multiple of 8: chunk k / 8 */
-          const float8 dx = xi.x - vload8(0, chunk), dy = xi.y - vload8(1, chunk), dz = xi.z - vload8(2, chunk);
-          const uint8 jj = as_uint8(vload8(4, chunk));
-          const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+}
+
+/* Rebuilds particle i's neighbour list from its cell's stencil: the
+ * candidates j != i with |x_i - x_j|^2 < PF_RL2 (with PF_NEWTON, of the
+ * cell's own particles only those with j > i), in the stencil's order.
+ * Returns the count (capped at PF_LIST_CAP; more set the overflow bit in
+ * *bits, as does a stencil cell that overflowed). */
+uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global uint* row, uint* bits) {
+  uint found = 0u;
+  const uint8 ei = (uint8)(PF_ENTRY(i));
+  for (uint k = 0; k < st->count; k += 8u) {
+    const float8 dx = xi.x - vload8(0, st->x + k), dy = xi.y - vload8(0, st->y + k), dz = xi.z - vload8(0, st->z + k);
+    const uint8 e = vload8(0, st->e + k);
+    const uint8 lane = (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u) + (uint8)(k);
 #if PF_NEWTON
-          const int8 partner = jj >= j_min;
+    const int8 partner = lane >= (uint8)(st->own) | e > ei;
 #else
-          const int8 partner = jj != (uint8)(i);
+    const int8 partner = e != ei;
 #endif
-          const int8 near = (lane < (int8)((int)m)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
-          const uint hits = pf_count8(near);
-          if (hits == 0u) continue;
-          const uint8 entries = select((uint8)(UINT_MAX), jj << 4u, near); /* as entries (PF_ENTRY) */
-          if (hits == 1u) { /* the common case in small cells: the one entry, no sorting network */
-            const uint4 m4 = min(entries.lo, entries.hi);
-            const uint2 m2 = min(m4.lo, m4.hi);
-            if (found < PF_LIST_CAP) PF_AT(row, found) = min(m2.x, m2.y);
-            ++found;
-            continue;
-          }
-          const uint8 sorted = pf_sort8(entries);
-          if (found + 8u <= PF_LIST_CAP) {
-            /* the non-neighbours sorted last become i: a row holds entries only */
-            vstore8(select((uint8)(PF_ENTRY(i)), sorted, sorted != (uint8)(UINT_MAX)), 0, row + found);
-          } else {
-            uint js[8];
-            vstore8(sorted, 0, js);
-            for (uint l = 0; l < hits && found + l < PF_LIST_CAP; ++l) PF_AT(row, found + l) = js[l];
-          }
-          found += hits;
-        }
-        if (m > 8u && found > cell_first) pf_sort_row(&PF_AT(row, cell_first), min(found, PF_LIST_CAP) - min(cell_first, PF_LIST_CAP));
-      }
+    const int8 near = (lane < (uint8)(st->count)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
+    /* no branch on whether any lane hit: at rc = 2.5 sigma about half the
+     * chunks do, at random, and the mispredictions cost more than a store */
+    pf_store_hits8(row, found, e, near, PF_ENTRY(i));
+    found += pf_count8(near);
+  }
+  *bits |= st->bits;
   if (found > PF_LIST_CAP) {
     *bits |= PF_OVERFLOW_BIT;
     found = PF_LIST_CAP;
@@ -848,12 +883,6 @@ typedef struct {
   uint count;
 } pf_queue;
 
-/* The lanes of v where `mask` is set (PF_MASK8), packed to the front. */
-#if defined(PF_X86_AVX512)
-#define PF_PACK8F(v, mask) __builtin_ia32_compresssf256_mask((v), (float8)(0.0f), (mask))
-#define PF_PACK8U(v, mask) as_uint8(__builtin_ia32_compresssi256_mask(as_int8(v), (int8)(0), (mask)))
-#endif
-
 /* F at entry idx[l] (PF_ENTRY, in private memory) += (gx, gy, gz, gw).sl
  * for the 8 lanes, one read-modify-write a lane in lane order (so repeated
  * entries add up). */
@@ -921,11 +950,11 @@ void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uin
 #if defined(PF_MASK8)
     const uchar mask = PF_MASK8(near);
     vstore8((uint8)(PF_ENTRY(i)), 0, q->i + at);
-    vstore8(PF_PACK8U(vload8(0, row + k), mask), 0, q->j + at);
-    vstore8(PF_PACK8F(dx, mask), 0, q->dx + at);
-    vstore8(PF_PACK8F(dy, mask), 0, q->dy + at);
-    vstore8(PF_PACK8F(dz, mask), 0, q->dz + at);
-    vstore8(PF_PACK8F(rs, mask), 0, q->rs + at);
+    vstore8(PF_PACK8U(vload8(0, row + k), (uint8)(0u), mask), 0, q->j + at);
+    vstore8(PF_PACK8F(dx, (float8)(0.0f), mask), 0, q->dx + at);
+    vstore8(PF_PACK8F(dy, (float8)(0.0f), mask), 0, q->dy + at);
+    vstore8(PF_PACK8F(dz, (float8)(0.0f), mask), 0, q->dz + at);
+    vstore8(PF_PACK8F(rs, (float8)(0.0f), mask), 0, q->rs + at);
     q->count = at + popcount((uint)mask);
 #else
     int m[8];
@@ -986,15 +1015,17 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
   pf_queue q;
   q.count = 0u;
 #endif
+  pf_stencil st; /* the list build's candidates (on the steps that rebuild) */
+  st.cell = UINT_MAX;
   for (uint i = w * per; i < end; ++i) {
     const float4 xi = X[i];
     __global uint* row = PF_ROW(list, i);
     uint count;
     if (rebuild) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
-      const float4 frac = (xi - cell_origin) * cell_inv - convert_float4(c);
+      if (pf_cell_index(c, cell_dims) != st.cell) pf_stencil_gather(&st, counts + cell_base, slots, c, cell_dims);
       uint bits = 0u;
-      count = pf_build_list(i, xi, counts + cell_base, slots, c, frac, cell_inv.x, cell_dims, row, &bits);
+      count = pf_build_list(i, xi, &st, row, &bits);
       list_count[i] = count;
       XREF[i] = xi;
       build_bits[i] = bits;
