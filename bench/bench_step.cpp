@@ -14,10 +14,11 @@
 // keeps the lattice's row order). Each line also gives the share of steps
 // that rebuilt the neighbour lists and the update's time on those and on
 // the others. --work-group, --force-buffers, --newton (on, off),
-// --pair-queue (on, off), --step-form (cpu, gpu) and --skin (every case's
-// list skin, in sigma) set EngineParams' values.
+// --pair-queue (on, off), --inner-lists (on, off), --inner-skin (sigma),
+// --step-form (cpu, gpu) and --skin (every case's list skin, in sigma) set
+// EngineParams' values.
 //
-//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]
+//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -390,13 +391,17 @@ int main(int argc, char** argv) {
       tuning.newton = std::strcmp(argv[++i], "off") == 0 ? Newton::off : Newton::on;
     else if (!std::strcmp(argv[i], "--pair-queue") && i + 1 < argc)
       tuning.pair_queue = std::strcmp(argv[++i], "off") == 0 ? PairQueue::off : PairQueue::on;
+    else if (!std::strcmp(argv[i], "--inner-lists") && i + 1 < argc)
+      tuning.inner_lists = std::strcmp(argv[++i], "off") == 0 ? InnerLists::off : InnerLists::on;
+    else if (!std::strcmp(argv[i], "--inner-skin") && i + 1 < argc)
+      tuning.inner_skin_sigma = std::strtod(argv[++i], nullptr);
     else if (!std::strcmp(argv[i], "--step-form") && i + 1 < argc)
       tuning.step_form = std::strcmp(argv[++i], "gpu") == 0 ? StepForm::gpu : StepForm::cpu;
     else if (!std::strcmp(argv[i], "--no-sort")) sort_cells = false;
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
       return 2;
     }
   }

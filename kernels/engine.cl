@@ -36,7 +36,12 @@
  * clears the third. Births and removals while the lists are valid update
  * them in place (birth_linked, remove_linked); bulk additions and growth
  * force a rebuild. A step is therefore two launches on GPUs (three on CPU
- * devices), the first nearly empty.
+ * devices), the first nearly empty. With PF_INNER (CPU devices, a cutoff:
+ * dynamic pruning) the pair loop reads inner lists instead, each list's
+ * entries within PF_RI (the reach plus the inner skin) when last pruned,
+ * from XPRUNE; a move of half the inner skin from there raises the other
+ * bit of the request word, and the next step prunes every list again
+ * (pf_prune_row), as it does after a rebuild, a linked birth or a removal.
  *
  * Pair forces on CPU devices (PF_GPU_FORM 0): `pair_forces`, 8 list
  * entries at a time as float8 vectors (PoCL turns them into SIMD). With
@@ -98,6 +103,9 @@
 #define PF_GPU_FORM 0
 #define PF_NEWTON 1
 #define PF_PAIR_QUEUE 1
+#define PF_INNER 1
+#define PF_RI2 1.4f
+#define PF_HALF_INNER2 0.0025f
 #define PF_FIX_SCALE 1.0e9f
 #define PF_FIX_MAX 1.0e6f
 #endif
@@ -137,6 +145,9 @@
 /* Bits a step sets for a particle (pf_build_list, the wall). */
 #define PF_FLAGGED_BIT 0x1u
 #define PF_OVERFLOW_BIT 0x2u
+/* Bits of a request word (request[]): rebuild the lists, prune the inner lists. */
+#define PF_REQUEST_REBUILD 0x1u
+#define PF_REQUEST_PRUNE 0x2u
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
  * keeps its neighbours: they clamp to the same or an adjacent cell). */
@@ -374,7 +385,7 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
                            const uint force) {
   const uint i = get_global_id(0), items = get_global_size(0);
   const uint now = cell_base == 0u ? 0u : 1u, other = 1u - now, other_base = cells - cell_base;
-  const uint rebuild = force || request[request_read];
+  const uint rebuild = force || (request[request_read] & PF_REQUEST_REBUILD);
   for (uint k = i; k < touched_upto[other]; k += items) {
     const uint cell = touched[other * touched_stride + k];
     if (cell != 0u) counts[other_base + cell - 1u] = 0u;
@@ -440,8 +451,9 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
   if (mine < PF_LIST_CAP) {
     PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
+    if (PF_INNER) atomic_or(&request[request_next], PF_REQUEST_PRUNE);
   } else {
-    atomic_or(&request[request_next], 1u);
+    atomic_or(&request[request_next], PF_REQUEST_REBUILD);
   }
   return;
 #endif
@@ -450,8 +462,9 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
     PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
     PF_AT(PF_ROW(list, n), slot) = PF_ENTRY(i);
+    if (PF_INNER) atomic_or(&request[request_next], PF_REQUEST_PRUNE);
   } else {
-    atomic_or(&request[request_next], 1u);
+    atomic_or(&request[request_next], PF_REQUEST_REBUILD);
   }
 }
 
@@ -462,9 +475,10 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
  * to `gone`. The host then zeroes list_count[last]. */
 __kernel void remove_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
                             __global uint* list, __global uint* list_count, __global float4* XREF, const uint n,
-                            const uint gone) {
+                            const uint gone, __global uint* request, const uint request_next) {
   const uint i = get_global_id(0);
   const uint last = n - 1u;
+  if (PF_INNER && i == 0u) atomic_or(&request[request_next], PF_REQUEST_PRUNE); /* the inner lists name them too */
   if (i >= last) return;
   __global uint* row = PF_ROW(list, i);
   if (i == gone) {
@@ -605,6 +619,30 @@ void pf_store_hits8(__global uint* row, uint found, uint8 entries, int8 hit, uin
     ++found;
   }
 }
+
+#if !PF_GPU_FORM
+/* Dynamic pruning (EngineParams::inner_lists): particle i's inner list,
+ * the entries of its list within PF_RI (the reach plus the inner skin) of
+ * it now, in the list's order, written to `inner`; returns their count.
+ * A particle that then moves half the inner skin makes the next step
+ * prune again, so no pair left out comes within reach before that. */
+uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
+                  __global uint* inner) {
+  uint found = 0u;
+  for (uint k = 0; k < count; k += 8u) {
+    float8 dx, dy, dz, rs;
+    pf_gather8(X, row + k, &dx, &dy, &dz, &rs);
+    dx = xi.x - dx;
+    dy = xi.y - dy;
+    dz = xi.z - dz;
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+    const int8 near = (lane < (int8)((int)count)) & (dx * dx + dy * dy + dz * dz < PF_RI2);
+    pf_store_hits8(inner, found, vload8(0, row + k), near, PF_ENTRY(i));
+    found += pf_count8(near);
+  }
+  return found;
+}
+#endif
 
 /* Whether the cell at offset (ox, oy, oz) from particle i's own cell may
  * hold a particle within PF_RL of it: `frac` is i's position within its
@@ -1006,11 +1044,16 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
-    const uint force_stride, const int4 sort_rows) {
+    const uint force_stride, const int4 sort_rows, __global uint* inner_list, __global uint* inner_count,
+    __global float4* XPRUNE) {
   const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
   const uint end = min(n, (w + 1u) * per);
   __global float4* Fw = PF_NEWTON ? F + (size_t)w * force_stride : F;
-  const uint rebuild = force_rebuild || request[request_read];
+  const uint requested = request[request_read];
+  const uint rebuild = force_rebuild || (requested & PF_REQUEST_REBUILD);
+#if PF_INNER
+  const uint prune = rebuild || (requested & PF_REQUEST_PRUNE);
+#endif
 #if PF_PAIR_QUEUE
   pf_queue q;
   q.count = 0u;
@@ -1034,6 +1077,18 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       const int4 newcomer = (int4)((int)i) == sort_rows; /* (PoCL makes four branches of any()) */
       if ((newcomer.x | newcomer.y | newcomer.z | newcomer.w) != 0) pf_sort_row(row, count);
     }
+#if PF_INNER
+    /* the pairs read the inner list, pruned from the list when due */
+    __global uint* inner = PF_ROW(inner_list, i);
+    if (prune) {
+      count = pf_prune_row(i, xi, row, count, X, inner);
+      inner_count[i] = count;
+      XPRUNE[i] = xi;
+    } else {
+      count = inner_count[i];
+    }
+    row = inner;
+#endif
 #if PF_PAIR_QUEUE
     pf_queue_push(&q, i, xi, row, count, X, V, Fw);
 #else
@@ -1106,7 +1161,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
     __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
     const uint request_clear, const uint force_rebuild, __global float4* F, const uint force_groups,
-    const uint force_stride, __global const uint* build_bits) {
+    const uint force_stride, __global const uint* build_bits, __global const float4* XPRUNE) {
 #if PF_GPU_FORM
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
@@ -1122,7 +1177,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
 #if PF_GPU_FORM
     __global uint* row = PF_ROW(list, i);
     uint count;
-    if (force_rebuild || request[request_read]) {
+    if (force_rebuild || (request[request_read] & PF_REQUEST_REBUILD)) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
       const float4 frac = (xi - cell_origin) * cell_inv - convert_float4(c);
       count = pf_build_list(i, xi, counts + cell_base, slots, c, frac, cell_inv.x, cell_dims, row, &bits);
@@ -1189,7 +1244,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     /* pair_forces summed each pair's force into both particles' rows of
      * the force buffers (w: overlapping pairs); add them up, zeroed for the
      * next step */
-    if (force_rebuild || request[request_read]) {
+    if (force_rebuild || (request[request_read] & PF_REQUEST_REBUILD)) {
       bits |= build_bits[i];
       rebuilt = i == 0u;
     }
@@ -1251,7 +1306,12 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     dxn.w = 0.0f;
     float4 drift = xn - XREF[i];
     drift.w = 0.0f;
-    if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], 1u);
+    if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
+#if !PF_GPU_FORM && PF_INNER
+    float4 moved = xn - XPRUNE[i];
+    moved.w = 0.0f;
+    if (dot(moved, moved) > PF_HALF_INNER2) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
+#endif
     const float u2 = dot(u, u);
     record = pf_record(0.5f * u2 / inv_mi, sqrt(u2), sqrt(dot(dxn, dxn)), rebuilt, pairs,
                        (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);

@@ -86,8 +86,8 @@ inline Device& shared_device() {
 
 /// Engine settings for a test: the defaults, with the step form that
 /// PFILL_TEST_STEP_FORM names (cpu or gpu; unset: the device's own), and
-/// the CPU form's settings PFILL_TEST_NEWTON, PFILL_TEST_PAIR_QUEUE (on,
-/// off) and PFILL_TEST_FORCE_BUFFERS. ctest runs the engine tests once more
+/// the CPU form's settings PFILL_TEST_NEWTON, PFILL_TEST_PAIR_QUEUE,
+/// PFILL_TEST_INNER_LISTS (on, off) and PFILL_TEST_FORCE_BUFFERS. ctest runs the engine tests once more
 /// with each, so CI checks all of that code.
 inline EngineParams test_params() {
   EngineParams p;
@@ -98,6 +98,8 @@ inline EngineParams test_params() {
     p.newton = std::string(newton) == "off" ? Newton::off : Newton::on;
   if (const char* queue = std::getenv("PFILL_TEST_PAIR_QUEUE"))
     p.pair_queue = std::string(queue) == "off" ? PairQueue::off : PairQueue::on;
+  if (const char* inner = std::getenv("PFILL_TEST_INNER_LISTS"))
+    p.inner_lists = std::string(inner) == "off" ? InnerLists::off : InnerLists::on;
   return p;
 }
 

@@ -121,6 +121,43 @@ TEST_CASE("engine: matches the reference after 1 and 100 steps (random systems i
   }
 }
 
+TEST_CASE("engine: inner lists (dynamic pruning) are pruned again before a pair left out comes within reach") {
+  // B starts listed but outside the inner reach (cutoff + inner skin) of A
+  // and flies straight at it, crossing the cutoff well before its drift
+  // would rebuild the lists (skin 1 sigma: half of it). Only pruning again
+  // on B's drift (half the inner skin) brings the pair into the inner list,
+  // and so A's pull on B and B's on A match the brute-force reference.
+  EngineParams p = sphere_params(2.5);
+  p.damping = 0;
+  p.restitution = 1;
+  p.skin_sigma = 1.0;
+  p.inner_skin_sigma = 0.1;
+  p.domain.add({-8, -8, -8});
+  p.domain.add({8, 8, 8});
+  Engine engine(shared_device(), p);
+  ReferenceEngine ref(p);
+  const EngineConstants& c = engine.constants();
+  std::vector<Particle> two(2);
+  two[0].position = {0, 0.1, 0.2};
+  two[1].position = {c.cutoff + 0.305 * c.sigma, 0.1, 0.2};  // (not a whole number of steps from it)
+  two[1].velocity = {-0.01 * c.sigma / c.dt, 0, 0};  // 0.01 sigma a step: at the cutoff after 30 steps
+  two[0].radius = two[1].radius = 0.5;
+  engine.add_particles(two);
+  ref.add_particles(two);
+  for (int s = 0; s < 45; ++s) ref.step();
+  engine.run_steps(45);  // B at cutoff - 0.15 sigma; the lists' rebuild would come at 50
+  const auto got = engine.read_particles();
+  size_t rebuilds = 0;
+  for (const StepRecord& r : engine.read_history()) rebuilds += r.lists_rebuilt;
+  CHECK(rebuilds == 1);  // the first step's only
+  REQUIRE(length(ref.particles()[0].velocity) > 1e-4);  // A was pulled
+  for (int k = 0; k < 2; ++k) {
+    INFO("particle " << k);
+    CHECK(length(got[k].velocity - ref.particles()[k].velocity) < 1e-3 * length(ref.particles()[k].velocity));
+    CHECK(length(got[k].position - ref.particles()[k].position) < 1e-5);
+  }
+}
+
 TEST_CASE("engine: any number of pair-force buffers (cpu form) matches the reference") {
   const EngineParams base = sphere_params(2.5);
   const double R = 4.0;

@@ -71,6 +71,7 @@ struct Engine::Impl {
   bool gpu_form;      // EngineParams::step_form resolved for this device (before `program`)
   bool newton;        // EngineParams::newton resolved (before `program`)
   bool pair_queue;    // EngineParams::pair_queue resolved (before `program`)
+  bool inner;         // EngineParams::inner_lists resolved (before `program`)
   // Force buffers `advance` adds up: with Newton, one per pair_forces
   // work-item (EngineParams::force_buffers; set by reserve()); else 1 (0 on GPUs).
   size_t force_groups = 0;
@@ -82,6 +83,9 @@ struct Engine::Impl {
   cl::Buffer X[2], V[2], flags, clearance;
   // Neighbour lists (see the top of engine.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
+  // CPU form with EngineParams::inner_lists: the inner lists (rows as the
+  // lists'), their counts, and where each particle was when they were pruned.
+  cl::Buffer inner_lists, inner_counts, prune_origins;
   bool lists_valid = false;  // false: the next step rebuilds every list
   std::vector<int> newcomers;  // linked births since the last step: their rows get sorted (at most 4)
   // CPU form: force_groups buffers of `capacity` forces (zero between
@@ -116,6 +120,8 @@ struct Engine::Impl {
         gpu_form(p.step_form == StepForm::automatic ? d.info().type != "CPU" : p.step_form == StepForm::gpu),
         newton(!gpu_form && (p.newton == Newton::automatic ? d.info().compute_units <= 4 : p.newton == Newton::on)),
         pair_queue(!gpu_form && (p.pair_queue == PairQueue::automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on)),
+        inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < p.skin_sigma
+                                                                     : p.inner_lists == InnerLists::on)),
         program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", group_size);
     k_finalize = program.kernel("finalize_history", group_size);
@@ -182,6 +188,9 @@ struct Engine::Impl {
     d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
     d["PF_NEWTON"] = newton ? "1" : "0";
     d["PF_PAIR_QUEUE"] = pair_queue ? "1" : "0";
+    d["PF_INNER"] = inner ? "1" : "0";
+    d["PF_RI2"] = flt(c.inner_reach * c.inner_reach);
+    d["PF_HALF_INNER2"] = flt(0.25 * c.inner_skin * c.inner_skin);
     d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (c.force_cap * c.list_capacity));
     d["PF_FIX_MAX"] = flt(16384 * c.force_cap);
     d["PF_WG"] = std::to_string(group_size) + "u";
@@ -304,6 +313,16 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "neighbour list counts");
     list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
+    const size_t inner_cap = inner ? cap : 1;  // (a word each when unused)
+    inner_lists = device.make_buffer(inner_cap * constants.list_capacity * sizeof(cl_uint), "inner neighbour lists");
+    check_cl(device.queue().enqueueFillBuffer(inner_lists, cl_uint(0), 0,
+                                              inner_cap * constants.list_capacity * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "inner neighbour lists");  // zeroed, as the lists are
+    inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint), "inner neighbour list counts");
+    // Counts past the last particle stay 0, as the lists' (a linked birth may join no list).
+    check_cl(device.queue().enqueueFillBuffer(inner_counts, cl_uint(0), 0, inner_cap * sizeof(cl_uint)),
+             "clEnqueueFillBuffer", "inner neighbour list counts");
+    prune_origins = device.make_buffer(inner_cap * sizeof(cl_float4), "inner neighbour list origins");
     force_groups = pair_force_groups(cap);
     const size_t force_count = std::max<size_t>(force_groups * cap, 1);
     forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
@@ -402,7 +421,8 @@ struct Engine::Impl {
     if (!gpu_form) {
       k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
                        lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
-                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows());
+                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows(), inner_lists, inner_counts,
+                       prune_origins);
       run(k_pairs, pair_items());
     }
     const size_t h = params.history_capacity;
@@ -415,7 +435,7 @@ struct Engine::Impl {
                       history, cl_uint((steps + h - 2) % h), lists,
                       list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
                       cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), forces, cl_uint(force_groups),
-                      cl_uint(capacity), build_bits);
+                      cl_uint(capacity), build_bits, prune_origins);
     };
     if (params.field_image)
       set_step_args(sdf_image);
@@ -553,7 +573,8 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     const size_t last = m.n - 1;
     if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
       m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
-                                 m.list_origins, cl_uint(m.n), cl_uint(idx));
+                                 m.list_origins, cl_uint(m.n), cl_uint(idx), m.rebuild_requests,
+                                 cl_uint((m.steps + 2) % 3));
       m.run(m.k_remove_linked, m.n);
       // A newcomer's unsorted row moves with it from `last` to `idx`.
       for (int& k : m.newcomers)
@@ -567,6 +588,9 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     // Counts past the last particle stay 0 (a linked birth counts up from there).
     check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
              "clEnqueueFillBuffer", "neighbour list count");
+    if (m.inner)
+      check_cl(m.device.queue().enqueueFillBuffer(m.inner_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
+               "clEnqueueFillBuffer", "inner neighbour list count");
     m.n -= 1;
   }
 }

@@ -37,6 +37,9 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.max_step_fraction > 0 && p.max_step_fraction <= 0.5, "max_step_fraction must be in (0, 0.5]");
   require(p.force_cap >= 0, "force_cap must be >= 0 (0: derived)");
   require(p.skin_sigma > 0 && p.skin_sigma <= 2, "skin_sigma must be in (0, 2]");
+  require(p.inner_skin_sigma > 0, "inner_skin_sigma must be > 0");
+  require(p.inner_lists != InnerLists::on || p.inner_skin_sigma < p.skin_sigma,
+          "inner_skin_sigma must be below skin_sigma for inner lists");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
   require(p.work_group >= 1, "work_group must be >= 1");
   require(p.force_buffers <= 1024, "force_buffers must be <= 1024 (0: one per compute unit)");
@@ -73,6 +76,8 @@ EngineConstants derive_constants(const EngineParams& p) {
   const double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
   c.list_capacity = static_cast<unsigned>(std::ceil(in_reach) + 8);
   c.list_capacity = (c.list_capacity + 7) / 8 * 8;
+  c.inner_skin = p.inner_skin_sigma * c.sigma;
+  c.inner_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.inner_skin;
   c.a_half = even_half(a);
   c.b_half = even_half(b);
   return c;

@@ -16,6 +16,8 @@ enum class StepForm { automatic, cpu, gpu };
 enum class Newton { automatic, on, off };
 /// Whether the `cpu` form queues the pairs in reach: see EngineParams::pair_queue.
 enum class PairQueue { automatic, on, off };
+/// Whether the `cpu` form prunes inner lists from the lists: see EngineParams::inner_lists.
+enum class InnerLists { automatic, on, off };
 
 /// What the user sets. Lengths are in mesh units; a particle of radius
 /// `radius` has mass 1 (mass scales with volume, (r / radius)^3).
@@ -71,6 +73,18 @@ struct EngineParams {
   /// are short and few entries are in reach (purely repulsive lists);
   /// `automatic`: on for purely repulsive potentials. `gpu` form: unused.
   PairQueue pair_queue = PairQueue::automatic;
+  /// `cpu` form: dynamic pruning (as GROMACS does it). Every so often each
+  /// list is pruned to an inner list of the pairs within the reach plus
+  /// `inner_skin_sigma`, which the pair loop then reads; a particle that
+  /// moved half of that since the last pruning makes the next step prune
+  /// again (the lists themselves still rebuild after moves of half the
+  /// skin). The pair loop then skips the ~40% of a list's entries that the
+  /// skin adds at rc = 2.5 sigma, at the cost of a pruning pass every few
+  /// steps and a second list buffer. `automatic`: on with a cutoff
+  /// (cutoff_sigma > 0), off for purely repulsive potentials, whose fast
+  /// fills would prune nearly every step. `gpu` form: unused.
+  InnerLists inner_lists = InnerLists::automatic;
+  double inner_skin_sigma = 0.1;   ///< inner-list skin in sigma (< skin_sigma; see inner_lists)
 };
 
 /// Everything derived from EngineParams (see derive_constants).
@@ -90,6 +104,8 @@ struct EngineConstants {
   double skin = 0;             ///< neighbour-list skin
   double list_reach = 0;       ///< max(cutoff, 2 max_radius, rest distance) + skin
   unsigned list_capacity = 0;  ///< neighbours a list can hold (more are dropped and counted as overflow)
+  double inner_skin = 0;       ///< inner-list skin (EngineParams::inner_lists)
+  double inner_reach = 0;      ///< max(cutoff, 2 max_radius, rest distance) + inner_skin (inner lists hold list_capacity)
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
 
