@@ -426,8 +426,9 @@ __kernel void birth_one(__global float4* X, __global float4* V, __global uint* f
  * in all, which the rebuild test (each drift at most half the skin) rules
  * out. On GPUs it also takes a slot in b's list (list_count[b] is 0
  * beforehand); on CPU devices, where each pair is in one list, b's list
- * stays empty. Item n writes the newcomer. A full list raises the rebuild
- * request the next step reads. */
+ * stays empty. Item n writes the newcomer (and, with PF_INNER, asks the
+ * next step to prune). A full list raises the rebuild request the next
+ * step reads. */
 __kernel void birth_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
                            __global uint* list, __global uint* list_count, __global float4* XREF,
                            __global uint* request, const uint request_next, const uint n, const float4 x,
@@ -439,6 +440,8 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
     flags[n] = 0u;
     C[n] = 0.0f;
     XREF[n] = x;
+    /* the inner lists are packed by pair_forces' blocks, which the count sets */
+    if (PF_INNER) atomic_or(&request[request_next], PF_REQUEST_PRUNE);
     return;
   }
   if (i > n) return;
@@ -451,7 +454,6 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
   if (mine < PF_LIST_CAP) {
     PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
-    if (PF_INNER) atomic_or(&request[request_next], PF_REQUEST_PRUNE);
   } else {
     atomic_or(&request[request_next], PF_REQUEST_REBUILD);
   }
@@ -462,7 +464,6 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
     PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
     PF_AT(PF_ROW(list, n), slot) = PF_ENTRY(i);
-    if (PF_INNER) atomic_or(&request[request_next], PF_REQUEST_PRUNE);
   } else {
     atomic_or(&request[request_next], PF_REQUEST_REBUILD);
   }
@@ -1060,6 +1061,13 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
 #endif
   pf_stencil st; /* the list build's candidates (on the steps that rebuild) */
   st.cell = UINT_MAX;
+#if PF_INNER
+  /* The block's inner lists lie packed one after the other from the
+   * block's first row on (a pruning writes them all, and the count and so
+   * the blocks cannot change before the next: births and removals make the
+   * next step prune), so the pair loop streams them. */
+  __global uint* inner_next = PF_ROW(inner_list, w * per);
+#endif
   for (uint i = w * per; i < end; ++i) {
     const float4 xi = X[i];
     __global uint* row = PF_ROW(list, i);
@@ -1079,7 +1087,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     }
 #if PF_INNER
     /* the pairs read the inner list, pruned from the list when due */
-    __global uint* inner = PF_ROW(inner_list, i);
+    __global uint* inner = inner_next;
     if (prune) {
       count = pf_prune_row(i, xi, row, count, X, inner);
       inner_count[i] = count;
@@ -1087,6 +1095,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     } else {
       count = inner_count[i];
     }
+    inner_next += count;
     row = inner;
 #endif
 #if PF_PAIR_QUEUE

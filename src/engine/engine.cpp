@@ -314,9 +314,10 @@ struct Engine::Impl {
              "clEnqueueFillBuffer", "neighbour list counts");
     list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
     const size_t inner_cap = inner ? cap : 1;  // (a word each when unused)
-    inner_lists = device.make_buffer(inner_cap * constants.list_capacity * sizeof(cl_uint), "inner neighbour lists");
-    check_cl(device.queue().enqueueFillBuffer(inner_lists, cl_uint(0), 0,
-                                              inner_cap * constants.list_capacity * sizeof(cl_uint)),
+    // Packed rows (see pair_forces): 8 entries of slack for the pair loop's eights past the last row's end.
+    const size_t inner_words = inner_cap * constants.list_capacity + 8;
+    inner_lists = device.make_buffer(inner_words * sizeof(cl_uint), "inner neighbour lists");
+    check_cl(device.queue().enqueueFillBuffer(inner_lists, cl_uint(0), 0, inner_words * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "inner neighbour lists");  // zeroed, as the lists are
     inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint), "inner neighbour list counts");
     // Counts past the last particle stay 0, as the lists' (a linked birth may join no list).
