@@ -127,6 +127,19 @@
 #define PF_AT(row, k) ((row)[(size_t)((k) >> 2) * 128u + ((k) & 3u)])
 #endif
 
+/* CPU devices with PF_NEWTON pack each block's rows one after the other
+ * at a rebuild, each with PF_ROW_SLACK entries of room for linked births
+ * after it (pair_forces): spans[i] = (the row's first word, its room, at
+ * most PF_LIST_CAP), and PF_LIST_ROW is the row; elsewhere PF_ROW. A
+ * block's rows fit in its PF_ROW_STRIDE words a particle. */
+#define PF_ROW_SLACK 8u
+#define PF_ROW_STRIDE (PF_LIST_CAP + PF_ROW_SLACK)
+#if !PF_GPU_FORM && PF_NEWTON
+#define PF_LIST_ROW(list, spans, i) ((list) + (spans)[i].x)
+#else
+#define PF_LIST_ROW(list, spans, i) PF_ROW(list, i)
+#endif
+
 /* A row entry names neighbour j: on GPUs j itself; on CPU devices the byte
  * offset of its float4 (16 j, so at most 2^28 particles), which the pair
  * loop adds to X, V or F as it is (x86 scales an index by at most 8: a
@@ -430,7 +443,7 @@ __kernel void birth_one(__global float4* X, __global float4* V, __global uint* f
  * next step to prune). A full list raises the rebuild request the next
  * step reads. */
 __kernel void birth_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
-                           __global uint* list, __global uint* list_count, __global float4* XREF,
+                           __global uint* list, __global uint* list_count, __global uint2* spans, __global float4* XREF,
                            __global uint* request, const uint request_next, const uint n, const float4 x,
                            const float4 v) {
   const uint i = get_global_id(0);
@@ -440,6 +453,9 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
     flags[n] = 0u;
     C[n] = 0.0f;
     XREF[n] = x;
+#if !PF_GPU_FORM && PF_NEWTON
+    spans[n] = (uint2)(0u, 0u); /* its list stays empty */
+#endif
     /* the inner lists are packed by pair_forces' blocks, which the count sets */
     if (PF_INNER) atomic_or(&request[request_next], PF_REQUEST_PRUNE);
     return;
@@ -451,8 +467,8 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
   const uint mine = list_count[i];
 #if !PF_GPU_FORM && PF_NEWTON
   /* each pair in one list: the newcomer's stays empty */
-  if (mine < PF_LIST_CAP) {
-    PF_AT(PF_ROW(list, i), mine) = PF_ENTRY(n);
+  if (mine < spans[i].y) {
+    PF_AT(PF_LIST_ROW(list, spans, i), mine) = PF_ENTRY(n);
     list_count[i] = mine + 1u;
   } else {
     atomic_or(&request[request_next], PF_REQUEST_REBUILD);
@@ -475,20 +491,24 @@ __kernel void birth_linked(__global float4* X, __global float4* V, __global uint
  * other item but `last` drops `gone` from its own list and renames `last`
  * to `gone`. The host then zeroes list_count[last]. */
 __kernel void remove_linked(__global float4* X, __global float4* V, __global uint* flags, __global float* C,
-                            __global uint* list, __global uint* list_count, __global float4* XREF, const uint n,
-                            const uint gone, __global uint* request, const uint request_next) {
+                            __global uint* list, __global uint* list_count, __global uint2* spans,
+                            __global float4* XREF, const uint n, const uint gone, __global uint* request,
+                            const uint request_next) {
   const uint i = get_global_id(0);
   const uint last = n - 1u;
   if (PF_INNER && i == 0u) atomic_or(&request[request_next], PF_REQUEST_PRUNE); /* the inner lists name them too */
   if (i >= last) return;
-  __global uint* row = PF_ROW(list, i);
   if (i == gone) {
     X[i] = X[last];
     V[i] = V[last];
     flags[i] = flags[last];
     C[i] = C[last];
     XREF[i] = XREF[last];
-    __global const uint* from = PF_ROW(list, last);
+#if !PF_GPU_FORM && PF_NEWTON
+    spans[i] = spans[last]; /* packed rows: the last particle's row becomes this one's, filtered in place */
+#endif
+    __global uint* row = PF_LIST_ROW(list, spans, i);
+    __global const uint* from = PF_LIST_ROW(list, spans, last);
     const uint count = min(list_count[last], PF_LIST_CAP);
     uint kept = 0u;
     for (uint k = 0; k < count; ++k)
@@ -499,6 +519,7 @@ __kernel void remove_linked(__global float4* X, __global float4* V, __global uin
     list_count[i] = kept;
     return;
   }
+  __global uint* row = PF_LIST_ROW(list, spans, i);
   uint count = min(list_count[i], PF_LIST_CAP);
   for (uint k = 0; k < count;) {
     if (PF_AT(row, k) == PF_ENTRY(gone)) {
@@ -1046,7 +1067,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
     const uint force_stride, const int4 sort_rows, __global uint* inner_list, __global uint* inner_count,
-    __global float4* XPRUNE) {
+    __global float4* XPRUNE, __global uint2* spans) {
   const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
   const uint end = min(n, (w + 1u) * per);
   __global float4* Fw = PF_NEWTON ? F + (size_t)w * force_stride : F;
@@ -1068,9 +1089,17 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
    * next step prune), so the pair loop streams them. */
   __global uint* inner_next = PF_ROW(inner_list, w * per);
 #endif
+#if PF_NEWTON
+  /* a rebuild packs the block's rows from its first PF_ROW_STRIDE words on */
+  uint next_row = w * per * PF_ROW_STRIDE;
+#endif
   for (uint i = w * per; i < end; ++i) {
     const float4 xi = X[i];
+#if PF_NEWTON
+    __global uint* row = list + (rebuild ? next_row : spans[i].x);
+#else
     __global uint* row = PF_ROW(list, i);
+#endif
     uint count;
     if (rebuild) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
@@ -1078,6 +1107,11 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       uint bits = 0u;
       count = pf_build_list(i, xi, &st, row, &bits);
       list_count[i] = count;
+#if PF_NEWTON
+      const uint room = min(count + PF_ROW_SLACK, PF_LIST_CAP);
+      spans[i] = (uint2)(next_row, room);
+      next_row += room;
+#endif
       XREF[i] = xi;
       build_bits[i] = bits;
     } else {

@@ -83,6 +83,7 @@ struct Engine::Impl {
   cl::Buffer X[2], V[2], flags, clearance;
   // Neighbour lists (see the top of engine.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
+  cl::Buffer list_spans;  // CPU form with Newton: each packed row's first word and room (engine.cl PF_LIST_ROW)
   // CPU form with EngineParams::inner_lists: the inner lists (rows as the
   // lists'), their counts, and where each particle was when they were pruned.
   cl::Buffer inner_lists, inner_counts, prune_origins;
@@ -302,12 +303,22 @@ struct Engine::Impl {
     flags = nf;
     clearance = nc;
     capacity = cap;
-    lists = device.make_buffer(cap * constants.list_capacity * sizeof(cl_uint), "neighbour lists");
+    force_groups = pair_force_groups(cap);
+    // With Newton the CPU form packs a block's rows into its PF_ROW_STRIDE
+    // (capacity + 8) words a particle; blocks may reach force_groups
+    // particles past the capacity; 8 more words for the pair loop's eights
+    // past the last row.
+    const size_t list_words = newton ? (cap + force_groups) * (constants.list_capacity + 8) + 8
+                                     : cap * constants.list_capacity;
+    lists = device.make_buffer(list_words * sizeof(cl_uint), "neighbour lists");
     // Zeroed: the CPU pair loop reads a row's entries in eights, past its
     // count too (then masks them), so every entry must be an index below
     // the capacity (the build pads with the row's own particle).
-    check_cl(device.queue().enqueueFillBuffer(lists, cl_uint(0), 0, cap * constants.list_capacity * sizeof(cl_uint)),
+    check_cl(device.queue().enqueueFillBuffer(lists, cl_uint(0), 0, list_words * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "neighbour lists");
+    list_spans = device.make_buffer((newton ? cap : 1) * sizeof(cl_uint2), "neighbour list rows");
+    check_cl(device.queue().enqueueFillBuffer(list_spans, cl_uint(0), 0, (newton ? cap : 1) * sizeof(cl_uint2)),
+             "clEnqueueFillBuffer", "neighbour list rows");
     list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
     // Counts past the last particle stay 0: a linked birth counts up from there.
     check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
@@ -324,7 +335,6 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(inner_counts, cl_uint(0), 0, inner_cap * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "inner neighbour list counts");
     prune_origins = device.make_buffer(inner_cap * sizeof(cl_float4), "inner neighbour list origins");
-    force_groups = pair_force_groups(cap);
     const size_t force_count = std::max<size_t>(force_groups * cap, 1);
     forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
     check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
@@ -423,7 +433,7 @@ struct Engine::Impl {
       k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
                        lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
                        cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows(), inner_lists, inner_counts,
-                       prune_origins);
+                       prune_origins, list_spans);
       run(k_pairs, pair_items());
     }
     const size_t h = params.history_capacity;
@@ -534,7 +544,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   }
   m.reserve(first + particles.size());
   if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
-    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
+    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts, m.list_spans,
                               m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
@@ -574,7 +584,7 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     const size_t last = m.n - 1;
     if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
       m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
-                                 m.list_origins, cl_uint(m.n), cl_uint(idx), m.rebuild_requests,
+                                 m.list_spans, m.list_origins, cl_uint(m.n), cl_uint(idx), m.rebuild_requests,
                                  cl_uint((m.steps + 2) % 3));
       m.run(m.k_remove_linked, m.n);
       // A newcomer's unsorted row moves with it from `last` to `idx`.
