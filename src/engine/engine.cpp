@@ -330,10 +330,9 @@ struct Engine::Impl {
     inner_lists = device.make_buffer(inner_words * sizeof(cl_uint), "inner neighbour lists");
     check_cl(device.queue().enqueueFillBuffer(inner_lists, cl_uint(0), 0, inner_words * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "inner neighbour lists");  // zeroed, as the lists are
+    // Read only after a pruning wrote them: the first step after this prunes,
+    // as does the step after any linked birth or removal.
     inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint), "inner neighbour list counts");
-    // Counts past the last particle stay 0, as the lists' (a linked birth may join no list).
-    check_cl(device.queue().enqueueFillBuffer(inner_counts, cl_uint(0), 0, inner_cap * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "inner neighbour list counts");
     prune_origins = device.make_buffer(inner_cap * sizeof(cl_float4), "inner neighbour list origins");
     const size_t force_count = std::max<size_t>(force_groups * cap, 1);
     forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
@@ -599,9 +598,6 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     // Counts past the last particle stay 0 (a linked birth counts up from there).
     check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
              "clEnqueueFillBuffer", "neighbour list count");
-    if (m.inner)
-      check_cl(m.device.queue().enqueueFillBuffer(m.inner_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
-               "clEnqueueFillBuffer", "inner neighbour list count");
     m.n -= 1;
   }
 }
