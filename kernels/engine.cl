@@ -106,6 +106,8 @@
 #define PF_INNER 1
 #define PF_RI2 1.4f
 #define PF_HALF_INNER2 0.0025f
+#define PF_INNER_SKIN 0.1f
+#define PF_CONTACT 1.0f
 #define PF_FIX_SCALE 1.0e9f
 #define PF_FIX_MAX 1.0e6f
 #endif
@@ -351,6 +353,35 @@ void pf_gather8(__global const float4* X, __global const uint* row, float8* x, f
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) p[l] = PF_LOAD_AT(X, row[l]);
   pf_transpose8(p, x, y, z, w);
+}
+
+#if defined(PF_X86_AVX512)
+/* One float of the float4s at 8 row entries (byte offsets, so scale 1),
+ * `offset` bytes into each, by a hardware gather. The builtin takes a
+ * private pointer; PoCL on a CPU has one flat address space, so the
+ * global address passes through an integer. */
+float8 pf_gather_component8(__global const float4* X, int8 entries, uint offset) {
+  return __builtin_ia32_gather3siv8sf((float8)(0.0f), (const void*)((size_t)X + offset), entries, (uchar)0xff, 1);
+}
+#endif
+
+/* pf_gather8 for the row loop (pf_row_forces) and the pruning: with
+ * AVX-512, hardware gathers of one component each. They take fewer
+ * instructions than the loads and transposes, and long rows hide their
+ * latency (+6% at rc 2.5, bench_variants). The pair queue's short rows do
+ * not, so it keeps pf_gather8 (-12% with gathers there). w: 0 where the
+ * caller needs no w. */
+void pf_row_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
+#if defined(PF_X86_AVX512)
+  const int8 e = vload8(0, (__global const int*)row);
+  *x = pf_gather_component8(X, e, 0u);
+  *y = pf_gather_component8(X, e, 4u);
+  *z = pf_gather_component8(X, e, 8u);
+  if (w) *w = pf_gather_component8(X, e, 12u);
+#else
+  float8 unused;
+  pf_gather8(X, row, x, y, z, w ? w : &unused);
+#endif
 }
 #endif
 
@@ -643,26 +674,64 @@ void pf_store_hits8(__global uint* row, uint found, uint8 entries, int8 hit, uin
 }
 
 #if !PF_GPU_FORM
+/* pf_store_hits8 into private memory (room for 8 words from `found` on). */
+void pf_store_hits8_private(uint* row, uint found, uint8 entries, int8 hit, uint pad) {
+#if defined(PF_MASK8)
+  vstore8(PF_PACK8U(entries, (uint8)(pad), PF_MASK8(hit)), 0, row + found);
+#else
+  uint e[8];
+  int h[8];
+  vstore8(entries, 0, e);
+  vstore8(hit, 0, h);
+  for (uint l = 0; l < 8u; ++l)
+    if (h[l] != 0) row[found++] = e[l];
+#endif
+}
+
 /* Dynamic pruning (EngineParams::inner_lists): particle i's inner list,
  * the entries of its list within PF_RI (the reach plus the inner skin) of
- * it now, in the list's order, written to `inner`; returns their count.
- * A particle that then moves half the inner skin makes the next step
- * prune again, so no pair left out comes within reach before that. */
+ * it now, written to `inner`; returns their count. A particle that then
+ * moves half the inner skin makes the next step prune again, so no pair
+ * left out comes within reach before that, and no pair closes in by more
+ * than the inner skin. So the entries come in two runs, each in the
+ * list's order: first those that may touch i before the next pruning
+ * (closer than their touch distance max(r_i + r_j, rest) plus the inner
+ * skin; *touching: how many), then those that cannot. pf_row_forces runs
+ * the contact code only on the first run's chunks: its branch on contacts
+ * no longer goes one way or the other by chance (-8% a step at rc 2.5). */
 uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
-                  __global uint* inner) {
-  uint found = 0u;
+                  __global uint* inner, uint* touching) {
+  uint near_count = 0u, apart_count = 0u;
+  uint apart[PF_LIST_CAP + 8u];
   for (uint k = 0; k < count; k += 8u) {
     float8 dx, dy, dz, rs;
-    pf_gather8(X, row + k, &dx, &dy, &dz, &rs);
+    pf_row_gather8(X, row + k, &dx, &dy, &dz, &rs);
     dx = xi.x - dx;
     dy = xi.y - dy;
     dz = xi.z - dz;
+    const float8 d2 = dx * dx + dy * dy + dz * dz;
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-    const int8 near = (lane < (int8)((int)count)) & (dx * dx + dy * dy + dz * dz < PF_RI2);
-    pf_store_hits8(inner, found, vload8(0, row + k), near, PF_ENTRY(i));
-    found += pf_count8(near);
+    const int8 within = (lane < (int8)((int)count)) & (d2 < PF_RI2);
+    /* (1 + 1e-5: the rounding of the square, on the safe side) */
+    const float8 reach = fmax(rs + xi.w, PF_CONTACT) + PF_INNER_SKIN;
+    const int8 near = within & (d2 < reach * reach * 1.00001f);
+    const uint8 entries = vload8(0, row + k);
+    pf_store_hits8(inner, near_count, entries, near, PF_ENTRY(i));
+    near_count += pf_count8(near);
+    pf_store_hits8_private(apart, apart_count, entries, within & ~near, PF_ENTRY(i));
+    apart_count += pf_count8(within & ~near);
   }
-  return found;
+  *touching = near_count;
+  __global uint* rest = inner + near_count;
+#if defined(PF_MASK8)
+  /* whole chunks (a row has 8 words of room past its end), padded with i
+   * as the list's rows are: the pair loop reads the words past the count */
+  vstore8((uint8)(PF_ENTRY(i)), 0, apart + apart_count);
+  for (uint k = 0; k < apart_count; k += 8u) vstore8(vload8(0, apart + k), 0, rest + k);
+#else
+  for (uint k = 0; k < apart_count; ++k) rest[k] = apart[k];
+#endif
+  return near_count + apart_count;
 }
 #endif
 
@@ -877,9 +946,15 @@ void pf_dashpots8(float8 dx, float8 dy, float8 dz, float8 inv_d, float8 uix, flo
  * Returns the force on i, with w = the overlapping pairs it counts. With
  * PF_NEWTON (each pair in one of its two particles' lists) the force on
  * each partner j is also subtracted from F[j] (Newton's third law) and
- * every listed overlap counts; without, only those with j > i. */
-float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count, __global const float4* X,
-                     __global const float4* V, __global float4* F) {
+ * every listed overlap counts; without, only those with j > i. Entries
+ * from `touching` on cannot touch i (pf_prune_row): their chunks skip the
+ * radii and the contact code. Every chunk runs the potential, even with
+ * no pair in reach (with inner lists nearly every chunk has one, and the
+ * test costs more than it saves). Inlined into pair_forces: as a call it
+ * spilled its constants and cost 4% more. */
+__attribute__((always_inline)) float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count,
+                                                    uint touching, __global const float4* X, __global const float4* V,
+                                                    __global float4* F) {
   const float ri = xi.w, inv_mi = vi.w;
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair */
@@ -889,24 +964,24 @@ float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uin
     /* past the count: stale indices of valid particles (the buffer starts
      * zeroed; the build pads with i), read and then masked */
     const uint8 jj = vload8(0, row + k);
-    float8 dx, dy, dz, rs;
-    pf_gather8(X, row + k, &dx, &dy, &dz, &rs);
+    const bool may_touch = k < touching;
+    float8 dx, dy, dz, rs = (float8)(0.0f);
+    pf_row_gather8(X, row + k, &dx, &dy, &dz, may_touch ? &rs : 0);
     dx = xi.x - dx;
     dy = xi.y - dy;
     dz = xi.z - dz;
     rs += ri;
     float8 d2 = dx * dx + dy * dy + dz * dz;
     const float8 touch2 = fmax(rs * rs, PF_CONTACT2);
-    const int8 near = valid & (d2 < fmax(touch2, PF_RC2));
-    if (!pf_any8(near)) continue;
+    const int8 near = valid & (d2 < (may_touch ? fmax(touch2, PF_RC2) : (float8)(PF_RC2)));
     d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
     float8 inv_d;
     const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, near, (uint8)(PF_ENTRY(i)), jj, &inv_d);
     float8 gx = kf * dx, gy = kf * dy, gz = kf * dz;
     const int8 contact = near & (d2 < touch2);
-    if (pf_any8(contact)) {
+    if (may_touch && pf_any8(contact)) {
       float8 vx, vy, vz, imj;
-      pf_gather8(V, row + k, &vx, &vy, &vz, &imj);
+      pf_row_gather8(V, row + k, &vx, &vy, &vz, &imj);
       pf_dashpots8(dx, dy, dz, inv_d, vi.x, vi.y, vi.z, inv_mi, vx, vy, vz, imj, contact, &gx, &gy, &gz);
 #if PF_NEWTON
       overlaps += contact & (d2 < rs * rs);
@@ -1066,7 +1141,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims, const uint n,
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
-    const uint force_stride, const int4 sort_rows, __global uint* inner_list, __global uint* inner_count,
+    const uint force_stride, const int4 sort_rows, __global uint* inner_list, __global uint2* inner_count,
     __global float4* XPRUNE, __global uint2* spans) {
   const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
   const uint end = min(n, (w + 1u) * per);
@@ -1100,7 +1175,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
 #else
     __global uint* row = PF_ROW(list, i);
 #endif
-    uint count;
+    uint count, touching; /* touching: entries that may touch i come first (pf_prune_row) */
     if (rebuild) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
       if (pf_cell_index(c, cell_dims) != st.cell) pf_stencil_gather(&st, counts + cell_base, slots, c, cell_dims);
@@ -1123,19 +1198,23 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     /* the pairs read the inner list, pruned from the list when due */
     __global uint* inner = inner_next;
     if (prune) {
-      count = pf_prune_row(i, xi, row, count, X, inner);
-      inner_count[i] = count;
+      count = pf_prune_row(i, xi, row, count, X, inner, &touching);
+      inner_count[i] = (uint2)(count, touching);
       XPRUNE[i] = xi;
     } else {
-      count = inner_count[i];
+      const uint2 counts = inner_count[i];
+      count = counts.x;
+      touching = counts.y;
     }
     inner_next += count;
     row = inner;
+#else
+    touching = count;
 #endif
 #if PF_PAIR_QUEUE
     pf_queue_push(&q, i, xi, row, count, X, V, Fw);
 #else
-    Fw[i] += pf_row_forces(i, xi, V[i], row, count, X, V, Fw);
+    Fw[i] += pf_row_forces(i, xi, V[i], row, count, touching, X, V, Fw);
 #endif
   }
 #if PF_PAIR_QUEUE

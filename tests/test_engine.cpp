@@ -158,6 +158,50 @@ TEST_CASE("engine: inner lists (dynamic pruning) are pruned again before a pair 
   }
 }
 
+TEST_CASE("engine: a pair pruned as unable to touch is pruned again before it touches") {
+  // A pruning lists first the entries that may touch before the next one
+  // (within touch distance plus the inner skin), and the pair loop runs
+  // the contact damping on those only. B starts just beyond that and flies
+  // at A; it touches after about 14 steps, long before its drift would
+  // rebuild the lists. The prunings on its drift (every 5 steps) must move
+  // it into the first run in time, or the dashpot misses steps of contact
+  // and the velocities leave the reference's.
+  EngineParams p = sphere_params(2.5);
+  p.damping = 0;
+  p.restitution = 0.3;
+  p.skin_sigma = 1.0;
+  p.inner_skin_sigma = 0.1;
+  p.domain.add({-8, -8, -8});
+  p.domain.add({8, 8, 8});
+  Engine engine(shared_device(), p);
+  ReferenceEngine ref(p);
+  const EngineConstants& c = engine.constants();
+  const double touch = std::max(1.0, c.contact_distance);  // radii 0.5
+  std::vector<Particle> two(2);
+  two[0].position = {0, 0.1, 0.2};
+  two[1].position = {touch + c.inner_skin + 0.035 * c.sigma, 0.1, 0.2};
+  two[1].velocity = {-0.01 * c.sigma / c.dt, 0, 0};  // 0.01 sigma a step
+  two[0].radius = two[1].radius = 0.5;
+  engine.add_particles(two);
+  ref.add_particles(two);
+  int touching_steps = 0;
+  for (int s = 0; s < 24; ++s) {
+    ref.step();
+    touching_steps += length(ref.particles()[0].position - ref.particles()[1].position) < touch;
+  }
+  engine.run_steps(24);
+  REQUIRE(touching_steps >= 5);  // the pair was in contact for a while
+  const auto got = engine.read_particles();
+  size_t rebuilds = 0;
+  for (const StepRecord& r : engine.read_history()) rebuilds += r.lists_rebuilt;
+  CHECK(rebuilds == 1);  // the first step's only
+  for (int k = 0; k < 2; ++k) {
+    INFO("particle " << k);
+    CHECK(length(got[k].velocity - ref.particles()[k].velocity) < 1e-3 * length(ref.particles()[k].velocity));
+    CHECK(length(got[k].position - ref.particles()[k].position) < 1e-5);
+  }
+}
+
 TEST_CASE("engine: any number of pair-force buffers (cpu form) matches the reference") {
   const EngineParams base = sphere_params(2.5);
   const double R = 4.0;

@@ -2,6 +2,7 @@
 #include "pfill/device/program.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 #include "pfill/embedded_kernels.hpp"
 
@@ -28,14 +29,18 @@ Program::Program(Device& device, const std::vector<std::string>& files,
   cl_int status = CL_SUCCESS;
   program_ = cl::Program(device.context(), source_, false, &status);
   check_cl(status, "clCreateProgramWithSource");
-  const cl_int build = program_.build(std::vector<cl::Device>{device.device()}, options.c_str());
+  // PFILL_CL_OPTIONS: extra build options for every program (developers'
+  // A/B runs of kernel variants, e.g. "-DPF_HW_SCATTER=0"; bench/ab_step.sh)
+  std::string all_options = options;
+  if (const char* extra = std::getenv("PFILL_CL_OPTIONS")) all_options += std::string(all_options.empty() ? "" : " ") + extra;
+  const cl_int build = program_.build(std::vector<cl::Device>{device.device()}, all_options.c_str());
   if (build != CL_SUCCESS) {
     std::string log;
     program_.getBuildInfo(device.device(), CL_PROGRAM_BUILD_LOG, &log);
     std::string files_list;
     for (const auto& f : files) files_list += (files_list.empty() ? "" : ", ") + f;
     check_cl(build, "clBuildProgram",
-             files_list + " on " + device.info().name + " (options '" + options + "'); build log:\n" + log);
+             files_list + " on " + device.info().name + " (options '" + all_options + "'); build log:\n" + log);
   }
 }
 

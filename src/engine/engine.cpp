@@ -191,6 +191,8 @@ struct Engine::Impl {
     d["PF_PAIR_QUEUE"] = pair_queue ? "1" : "0";
     d["PF_INNER"] = inner ? "1" : "0";
     d["PF_RI2"] = flt(c.inner_reach * c.inner_reach);
+    d["PF_INNER_SKIN"] = flt(c.inner_skin);
+    d["PF_CONTACT"] = flt(c.contact_distance);
     d["PF_HALF_INNER2"] = flt(0.25 * c.inner_skin * c.inner_skin);
     d["PF_FIX_SCALE"] = flt(std::ldexp(1.0, 47) / (c.force_cap * c.list_capacity));
     d["PF_FIX_MAX"] = flt(16384 * c.force_cap);
@@ -332,7 +334,7 @@ struct Engine::Impl {
              "clEnqueueFillBuffer", "inner neighbour lists");  // zeroed, as the lists are
     // Read only after a pruning wrote them: the first step after this prunes,
     // as does the step after any linked birth or removal.
-    inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint), "inner neighbour list counts");
+    inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint2), "inner neighbour list counts");
     prune_origins = device.make_buffer(inner_cap * sizeof(cl_float4), "inner neighbour list origins");
     const size_t force_count = std::max<size_t>(force_groups * cap, 1);
     forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
