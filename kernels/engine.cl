@@ -63,8 +63,8 @@
  * their own, in a fixed order (so the same run gives the same sums), over
  * three steps: step t makes level-1 partials (L1), step t+1 sums chunks of
  * PF_WG of them into level-2 partials (L2), and step t+2 sums those into
- * the HISTORY record of step t: kinetic energy, max speed, max
- * displacement, lists rebuilt (0/1), then as uints: colliding pairs,
+ * the HISTORY record of step t: kinetic energy, max speed^2, max
+ * displacement^2, lists rebuilt (0/1), then as uints: colliding pairs,
  * flagged particles, cell-overflow hits, particle count. With PF_GPU_FORM
  * (GPUs): L1 holds one sum a work-group, made in local memory, and the
  * chunk and final sums are group sums too (two levels: PF_WG_ROOT items sum
@@ -182,10 +182,12 @@ uint pf_cell_listed(__global const uint* counts, uint cell, uint* bits) {
   return min(m, PF_CELL_CAP);
 }
 
-/* A particle's record: (kinetic energy, speed, displacement, lists
- * rebuilt, then as uints: colliding pairs, flagged, cell overflow, count). */
-float8 pf_record(float ke, float speed, float disp, uint rebuilt, uint pairs, uint flagged, uint overflow, uint n) {
-  return (float8)(ke, speed, disp, (float)rebuilt, as_float4((uint4)(pairs, flagged, overflow, n)));
+/* A particle's record: (kinetic energy, speed^2, displacement^2, lists
+ * rebuilt, then as uints: colliding pairs, flagged, cell overflow, count).
+ * Squares: their maxima are the squares of the maxima, so the host takes
+ * the one square root of each, not every particle. */
+float8 pf_record(float ke, float speed2, float disp2, uint rebuilt, uint pairs, uint flagged, uint overflow, uint n) {
+  return (float8)(ke, speed2, disp2, (float)rebuilt, as_float4((uint4)(pairs, flagged, overflow, n)));
 }
 
 /* Two records as one: sums, maxima, counts summed, the particle count the larger. */
@@ -1390,10 +1392,11 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
      * with branches these magnitudes never need */
     const float speed = sqrt(dot(u, u));
     if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
+    const float capped_speed = speed > PF_VMAX ? PF_VMAX : speed; /* |u| now */
     float4 xn = xi + PF_DT * u;
     xn.w = ri;
     if (sdf_dims.w != 0) {
-      float clearance = C[i] - 2.0f * PF_DT * sqrt(dot(u, u));
+      float clearance = C[i] - 2.0f * PF_DT * capped_speed;
       if (clearance <= 0.0f) {
         float g[3];
         float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
@@ -1440,7 +1443,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     if (dot(moved, moved) > PF_HALF_INNER2) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
 #endif
     const float u2 = dot(u, u);
-    record = pf_record(0.5f * u2 / inv_mi, sqrt(u2), sqrt(dot(dxn, dxn)), rebuilt, pairs,
+    record = pf_record(0.5f * u2 / inv_mi, u2, dot(dxn, dxn), rebuilt, pairs,
                        (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
   }
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */

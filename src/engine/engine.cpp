@@ -484,8 +484,8 @@ struct Engine::Impl {
       StepRecord rec;
       rec.step = s;
       rec.kinetic_energy = r[0];
-      rec.max_speed = r[1];
-      rec.max_displacement = r[2];
+      rec.max_speed = std::sqrt(r[1]);  // the kernels keep squares (engine.cl pf_record)
+      rec.max_displacement = std::sqrt(r[2]);
       rec.lists_rebuilt = r[3] > 0.5f;
       rec.colliding_pairs = as_uint(r[4]);
       rec.flagged = as_uint(r[5]);
