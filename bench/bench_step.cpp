@@ -199,7 +199,7 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   nlohmann::json j;
   j["n"] = c.n;
   j["cutoff"] = c.cutoff_sigma > 0 ? "2.5 sigma" : "repulsive";
-  j["skin_sigma"] = p.skin_sigma;
+  j["skin_sigma"] = engine.params().skin_sigma;  // (an automatic skin resolved)
   j["sorted_by_cells"] = sort_cells;
   j["mode"] = c.births ? "steps/s, history read every 50 steps, one birth and one removal a step (N-1 particles)"
                        : c.small ? "steps/s, history read every 50 steps" : "particle-steps/s, no reads";

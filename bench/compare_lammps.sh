@@ -6,8 +6,11 @@
 #   N = 1e5, rc = 2.5 sigma and purely repulsive: particle-steps per second.
 #   N = 4000, purely repulsive, thermo output every step: steps per second.
 # Same density (reduced 0.81: packing 0.6 of spheres of diameter 2^(1/6)
-# sigma), fcc start, dt = 0.005 tau, neighbour skin 0.3 sigma. Differences:
-# LAMMPS runs a periodic box, pfill a walled box (its wall costs are in).
+# sigma), fcc start, dt = 0.005 tau. Each program uses its own default
+# neighbour skin: LAMMPS 0.3 sigma (0.5 was no faster there), pfill its
+# automatic one (0.5 sigma on CPUs, with inner lists of 0.07 at rc 2.5).
+# Differences: LAMMPS runs a periodic box, pfill a walled box (its wall
+# costs are in).
 #
 #   bench/compare_lammps.sh [BUILD_DIR]     (default: build)
 set -euo pipefail

@@ -158,6 +158,24 @@ TEST_CASE("engine: inner lists (dynamic pruning) are pruned again before a pair 
   }
 }
 
+TEST_CASE("engine: an automatic skin is the step form's, and a given one is kept") {
+  EngineParams p = sphere_params(2.5);
+  p.skin_sigma = 0;
+  p.domain.add({-4, -4, -4});
+  p.domain.add({4, 4, 4});
+  for (StepForm form : {StepForm::cpu, StepForm::gpu}) {
+    p.step_form = form;
+    Engine engine(shared_device(), p);
+    const double want = form == StepForm::cpu ? kCpuFormSkinSigma : kGpuFormSkinSigma;
+    CHECK(engine.params().skin_sigma == want);
+    CHECK(engine.constants().skin == doctest::Approx(want * engine.constants().sigma));
+  }
+  p.skin_sigma = 0.4;
+  CHECK(Engine(shared_device(), p).params().skin_sigma == 0.4);
+  p.skin_sigma = -0.1;
+  CHECK_THROWS_WITH_AS(derive_constants(p), doctest::Contains("skin_sigma"), Error);
+}
+
 TEST_CASE("engine: a pair pruned as unable to touch is pruned again before it touches") {
   // A pruning lists first the entries that may touch before the next one
   // (within touch distance plus the inner skin), and the pair loop runs

@@ -53,6 +53,17 @@ uint32_t as_uint(float f) {
 
 // derive_constants, plus (with field_image) the device's image support,
 // checked before the program (which then declares an image3d_t) is built.
+// EngineParams::step_form resolved for the device.
+bool uses_gpu_form(const Device& device, const EngineParams& p) {
+  return p.step_form == StepForm::automatic ? device.info().type != "CPU" : p.step_form == StepForm::gpu;
+}
+
+// `p` with its automatic skin made the step form's.
+EngineParams resolved_params(const Device& device, EngineParams p) {
+  if (p.skin_sigma == 0) p.skin_sigma = uses_gpu_form(device, p) ? kGpuFormSkinSigma : kCpuFormSkinSigma;
+  return p;
+}
+
 EngineConstants checked_constants(const Device& device, const EngineParams& p) {
   EngineConstants c = derive_constants(p);
   if (p.field_image && !device.device().getInfo<CL_DEVICE_IMAGE_SUPPORT>())
@@ -117,11 +128,11 @@ struct Engine::Impl {
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
-      : device(d), params(p), constants(checked_constants(d, p)), group_size(reduction_group(d, p)),
-        gpu_form(p.step_form == StepForm::automatic ? d.info().type != "CPU" : p.step_form == StepForm::gpu),
+      : device(d), params(resolved_params(d, p)), constants(checked_constants(d, params)), group_size(reduction_group(d, p)),
+        gpu_form(uses_gpu_form(d, p)),
         newton(!gpu_form && (p.newton == Newton::automatic ? d.info().compute_units <= 4 : p.newton == Newton::on)),
         pair_queue(!gpu_form && (p.pair_queue == PairQueue::automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on)),
-        inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < p.skin_sigma
+        inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < params.skin_sigma
                                                                      : p.inner_lists == InnerLists::on)),
         program(d, {"physics.cl", "engine.cl"}, defines()) {
     k_step = program.kernel("advance", group_size);

@@ -36,9 +36,12 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.dt >= 0, "dt must be >= 0 (0: derived from the potential)");
   require(p.max_step_fraction > 0 && p.max_step_fraction <= 0.5, "max_step_fraction must be in (0, 0.5]");
   require(p.force_cap >= 0, "force_cap must be >= 0 (0: derived)");
-  require(p.skin_sigma > 0 && p.skin_sigma <= 2, "skin_sigma must be in (0, 2]");
+  require(p.skin_sigma >= 0 && p.skin_sigma <= 2, "skin_sigma must be in [0, 2] (0: automatic)");
+  // (Engine resolves an automatic skin for its step form first; elsewhere,
+  // as in the reference, which lists nothing, it is the gpu form's.)
+  const double skin_sigma = p.skin_sigma > 0 ? p.skin_sigma : kGpuFormSkinSigma;
   require(p.inner_skin_sigma > 0, "inner_skin_sigma must be > 0");
-  require(p.inner_lists != InnerLists::on || p.inner_skin_sigma < p.skin_sigma,
+  require(p.inner_lists != InnerLists::on || p.inner_skin_sigma < skin_sigma,
           "inner_skin_sigma must be below skin_sigma for inner lists");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
   require(p.work_group >= 1, "work_group must be >= 1");
@@ -63,7 +66,7 @@ EngineConstants derive_constants(const EngineParams& p) {
   const double zeta = p.restitution >= 1 ? 0 : -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
   c.dashpot = 2 * zeta * std::sqrt(k);
   c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
-  c.skin = p.skin_sigma * c.sigma;
+  c.skin = skin_sigma * c.sigma;
   c.list_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.skin;
   c.cell_size = c.list_reach;
   // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
