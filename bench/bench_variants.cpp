@@ -7,8 +7,8 @@
 // A variant's words of the form name=value set EngineParams instead:
 // skin, inner_skin (sigma), inner_lists, pair_queue, newton (on, off).
 // Prints, per variant, the update time of a step (pair_forces + advance,
-// profiled) as its median and fastest tenth, over the steps that did not
-// rebuild the lists (whose fastest tenth is the steadiest figure for the
+// profiled) as its median and fastest tenth over the steps that did not
+// rebuild the lists, its median over those that did (and their number), (whose fastest tenth is the steadiest figure for the
 // pair loop) and over all steps (whose mean, pruning and rebuild steps
 // included, is what a run's rate follows), and the per-kernel medians;
 // with --quantiles also the quantiles of all steps (the rebuild and the
@@ -73,7 +73,7 @@ double mean(const std::vector<double>& v) {
 struct Variant {
   std::string options;
   std::unique_ptr<Engine> engine;
-  std::vector<double> other, all;                     // update seconds: non-rebuild steps, every step
+  std::vector<double> other, rebuild, all;            // update seconds: non-rebuild steps, rebuild steps, every step
   std::map<std::string, std::vector<double>> kernels;  // seconds a step, per kernel
 };
 
@@ -133,13 +133,14 @@ int main(int argc, char** argv) {
     for (Variant& x : v) {  // each step's record, read once at the end, as a run would
       const std::vector<StepRecord> records = x.engine->read_history();
       for (size_t k = 0; k < x.all.size() && k < records.size(); ++k)
-        if (!records[k].lists_rebuilt) x.other.push_back(x.all[k]);
+        (records[k].lists_rebuilt ? x.rebuild : x.other).push_back(x.all[k]);
     }
-    std::printf("%-32s %14s %14s %14s %14s  kernel medians (us)\n", "variant", "other: median", "fastest tenth",
-                "all: median", "mean");
+    std::printf("%-32s %14s %14s %16s %14s %14s  kernel medians (us)\n", "variant", "other: median", "fastest tenth",
+                "rebuilds: median", "all: median", "mean");
     for (const Variant& x : v) {
-      std::printf("%-32s %14.1f %14.1f %14.1f %14.1f ", ('"' + x.options + '"').c_str(), 1e6 * quantile(x.other, 0.5),
-                  1e6 * quantile(x.other, 0.1), 1e6 * quantile(x.all, 0.5), 1e6 * mean(x.all));
+      std::printf("%-32s %14.1f %14.1f %10.1f (%3zu) %14.1f %14.1f ", ('"' + x.options + '"').c_str(),
+                  1e6 * quantile(x.other, 0.5), 1e6 * quantile(x.other, 0.1), 1e6 * quantile(x.rebuild, 0.5),
+                  x.rebuild.size(), 1e6 * quantile(x.all, 0.5), 1e6 * mean(x.all));
       for (const auto& [name, t] : x.kernels) std::printf(" %s %.1f", name.c_str(), 1e6 * quantile(t, 0.5));
       std::printf("\n");
       if (quantiles) {

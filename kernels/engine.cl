@@ -372,7 +372,7 @@ float8 pf_gather_component8(__global const float4* X, int8 entries, uint offset)
 }
 #endif
 
-/* pf_gather8 for the row loop (pf_row_forces) and the pruning: with
+/* pf_gather8 for the row loop (pf_row_forces): with
  * AVX-512, hardware gathers of one component each. They take fewer
  * instructions than the loads and transposes, and long rows hide their
  * latency (+6% at rc 2.5, bench_variants). The pair queue's short rows do
@@ -712,7 +712,7 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
   uint apart[PF_LIST_CAP + 8u];
   for (uint k = 0; k < count; k += 8u) {
     float8 dx, dy, dz, rs;
-    pf_row_gather8(X, row + k, &dx, &dy, &dz, &rs);
+        pf_gather8(X, row + k, &dx, &dy, &dz, &rs); /* (1-2% faster here than the hardware gathers) */
     dx = xi.x - dx;
     dy = xi.y - dy;
     dz = xi.z - dz;
@@ -1162,8 +1162,13 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
   pf_queue q;
   q.count = 0u;
 #endif
-  pf_stencil st; /* the list build's candidates (on the steps that rebuild) */
-  st.cell = UINT_MAX;
+  /* the list build's candidates (on the steps that rebuild): the stencils
+   * of the last two cells, so that a particle that has moved out of its
+   * run's cell (the order since the last sort_by_cells decays) costs one
+   * gather, not two (rebuild steps at N = 1e5, rc 2.5: 40-68 to 32-43 ms) */
+  pf_stencil st[2];
+  st[0].cell = st[1].cell = UINT_MAX;
+  uint newest = 0u;
 #if PF_INNER
   /* The block's inner lists lie packed one after the other from the
    * block's first row on (a pruning writes them all, and the count and so
@@ -1185,9 +1190,13 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     uint count, touching; /* touching: entries that may touch i come first (pf_prune_row) */
     if (rebuild) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
-      if (pf_cell_index(c, cell_dims) != st.cell) pf_stencil_gather(&st, counts + cell_base, slots, c, cell_dims);
+      const uint cell = pf_cell_index(c, cell_dims);
+      if (st[newest].cell != cell) {
+        newest = 1u - newest;
+        if (st[newest].cell != cell) pf_stencil_gather(&st[newest], counts + cell_base, slots, c, cell_dims);
+      }
       uint bits = 0u;
-      count = pf_build_list(i, xi, &st, row, &bits);
+      count = pf_build_list(i, xi, &st[newest], row, &bits);
       list_count[i] = count;
 #if PF_NEWTON
       const uint room = min(count + PF_ROW_SLACK, PF_LIST_CAP);
