@@ -143,7 +143,8 @@
 #endif
 
 /* A row entry names neighbour j: on GPUs j itself; on CPU devices the byte
- * offset of its float4 (16 j, so at most 2^28 particles), which the pair
+ * offset of its float4 (16 j, so at most 2^27 particles: the AVX-512
+ * gathers read the offsets as signed), which the pair
  * loop adds to X, V or F as it is (x86 scales an index by at most 8: a
  * plain index costs a shift a lane). PF_LOAD_AT / PF_REF_AT: the float4
  * of an entry, read-only or to update. */

@@ -287,8 +287,9 @@ struct Engine::Impl {
     size_t cap = std::max<size_t>(capacity, 64);
     while (cap < want) cap *= 2;
     // CPU list rows hold byte offsets (16 j: see PF_ENTRY in engine.cl).
-    if (!gpu_form && cap > (size_t(1) << 28))
-      throw Error("engine: " + std::to_string(want) + " particles are more than the CPU form holds (2^28); use a larger radius");
+    // (list entries are byte offsets, 16 j, which the AVX-512 gathers take as signed 32-bit)
+    if (!gpu_form && cap > (size_t(1) << 27))
+      throw Error("engine: " + std::to_string(want) + " particles are more than the CPU form holds (2^27); use a larger radius");
     reduce_pending();  // the record buffers are reallocated below
     cl::Buffer nx[2], nv[2];
     for (int h = 0; h < (gpu_form ? 2 : 1); ++h) {
