@@ -112,6 +112,9 @@
 #define PF_FIX_MAX 1.0e6f
 #endif
 
+#ifndef PF_ADVANCE8
+#define PF_ADVANCE8 1
+#endif
 /* EngineParams::step_form: PF_GPU_FORM 0 (CPU devices) pairs 8 list
  * entries at a time as float8 vectors, with each list row contiguous.
  * PF_GPU_FORM 1 (GPUs) takes entries 4 at a time, one pair per work-item,
@@ -1291,6 +1294,177 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
  * the cells and lists are used here; on CPU devices pair_forces used them
  * and left the forces in F (force_groups buffers, force_stride apart) and
  * the list build's overflow bits in build_bits. */
+/* |a|^2 of a's x, y, z by explicit fused multiply-adds, as pf_norm2_8:
+ * pf_integrate and pf_advance8 then round alike, whatever the compiler
+ * contracts, so a particle moves the same in an octet as alone (the
+ * fill's results do not depend on which particles form octets). The
+ * integration's other sums are explicit fma()s for the same reason. */
+float pf_norm2(float4 a) { return fma(a.z, a.z, fma(a.y, a.y, a.x * a.x)); }
+float8 pf_norm2_8(float8 x, float8 y, float8 z) { return fma(z, z, fma(y, y, x * x)); }
+
+/* `advance` for particle i, from its state (xi, vi), the force on it and
+ * its build bits: velocity Verlet with the displacement cap, the wall
+ * (sampled only where the clearance bound runs out), the new state to
+ * X_out and V_out, the list requests its drift raises. Returns its record. */
+float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint rebuilt, uint pairs,
+                    __global float4* X_out, __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims,
+                    __global uint* flags, __global float* C, __global const float4* XREF,
+                    __global const float4* XPRUNE, __global uint* request, uint request_raise, uint n) {
+  const float ri = xi.w, inv_mi = vi.w;
+  const float k = PF_DT * inv_mi;
+  float4 u = (float4)(fma(k, force.x, vi.x), fma(k, force.y, vi.y), fma(k, force.z, vi.z), 0.0f) * PF_DAMP;
+  /* sqrt(pf_norm2()), not length(): PoCL's length() guards against
+   * overflow with branches these magnitudes never need */
+  const float speed = sqrt(pf_norm2(u));
+  if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
+  const float capped_speed = speed > PF_VMAX ? PF_VMAX : speed; /* |u| now */
+  float4 xn = (float4)(fma(PF_DT, u.x, xi.x), fma(PF_DT, u.y, xi.y), fma(PF_DT, u.z, xi.z), ri);
+  if (sdf_dims.w != 0) {
+    float clearance = fma(-2.0f * PF_DT, capped_speed, C[i]);
+    if (clearance <= 0.0f) {
+      float g[3];
+      float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
+                                sdf_origin.w, xn.x, xn.y, xn.z, g);
+      const float4 grid_pos = (xn - sdf_origin) * sdf_origin.w;
+      const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
+                              grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
+                              grid_pos.z > (float)(sdf_dims.z - 1);
+      if (phi > 0.0f || outside_box) {
+        bits |= PF_FLAGGED_BIT;
+        flags[i] = 1u;
+      }
+      if (phi > -ri) {
+        for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
+          const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+          if (!(gl > 1e-20f)) break;
+          const float push = (phi + ri) / gl;
+          xn.x -= push * g[0];
+          xn.y -= push * g[1];
+          xn.z -= push * g[2];
+          phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
+                              sdf_origin.w, xn.x, xn.y, xn.z, g);
+        }
+        const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if (gl > 1e-20f) {
+          const float4 nrm = (float4)(g[0], g[1], g[2], 0.0f) / gl;
+          u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
+        }
+      }
+      clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
+    }
+    C[i] = clearance;
+  }
+  X_out[i] = xn;
+  V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
+  if (pf_norm2(xn - XREF[i]) > PF_HALF_SKIN2) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
+#if !PF_GPU_FORM && PF_INNER
+  if (pf_norm2(xn - XPRUNE[i]) > PF_HALF_INNER2) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
+#endif
+  const float u2 = pf_norm2(u);
+  return pf_record(0.5f * u2 / inv_mi, u2, pf_norm2(xn - xi), rebuilt, pairs, (bits & PF_FLAGGED_BIT) ? 1u : 0u,
+                   (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
+}
+
+#if !PF_GPU_FORM
+/* `advance` for the 8 particles i0..i0+7 as float8 lanes (CPU form):
+ * pf_integrate's arithmetic on all 8 at once, the lanes whose clearance
+ * bound ran out (the wall is near: rare) handed to pf_integrate itself.
+ * Writes their records to L1_out. PoCL runs `advance`'s work-items one
+ * after the other, scalar, so without this a particle cost ~80 cycles. */
+void pf_advance8(uint i0, __global const float4* X, __global const float4* V, __global float4* X_out,
+                 __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
+                 __global float* C, __global const float4* XREF, __global const float4* XPRUNE, __global uint* request,
+                 uint request_raise, uint rebuild, __global float4* F, uint force_groups, uint force_stride,
+                 __global const uint* build_bits, __global float8* L1_out, uint n) {
+  float4 xs[8], vs[8], t[8];
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) {
+    xs[l] = X[i0 + l];
+    vs[l] = V[i0 + l];
+  }
+  float8 x, y, z, r, vx, vy, vz, im;
+  pf_transpose8(xs, &x, &y, &z, &r);
+  pf_transpose8(vs, &vx, &vy, &vz, &im);
+  /* the force buffers' sums (w: overlapping pairs), zeroed for the next step */
+  float8 fx = (float8)(0.0f), fy = fx, fz = fx, fw = fx;
+  for (uint g = 0; g < force_groups; ++g) {
+    __global float4* Fg = F + (size_t)g * force_stride + i0;
+#pragma unroll
+    for (uint l = 0; l < 8u; ++l) t[l] = Fg[l];
+    float8 a, b, c, d;
+    pf_transpose8(t, &a, &b, &c, &d);
+    fx += a;
+    fy += b;
+    fz += c;
+    fw += d;
+#pragma unroll
+    for (uint l = 0; l < 8u; ++l) Fg[l] = (float4)(0.0f);
+  }
+  const uint8 bits = rebuild ? vload8(0, build_bits + i0) : (uint8)(0u);
+  const float8 k = PF_DT * im;
+  float8 ux = fma(k, fx, vx) * PF_DAMP, uy = fma(k, fy, vy) * PF_DAMP, uz = fma(k, fz, vz) * PF_DAMP;
+  const float8 speed = sqrt(pf_norm2_8(ux, uy, uz));
+  const int8 fast = speed > PF_VMAX; /* displacement cap: at most PF_VMAX dt a step */
+  const float8 scale = select((float8)(1.0f), PF_VMAX / speed, fast);
+  ux *= scale;
+  uy *= scale;
+  uz *= scale;
+  const float8 nx = fma(PF_DT, ux, x), ny = fma(PF_DT, uy, y), nz = fma(PF_DT, uz, z);
+  int8 wall = (int8)(0);
+  float8 clearance = (float8)(0.0f);
+  if (sdf_dims.w != 0) {
+    clearance = fma(-2.0f * PF_DT, select(speed, (float8)(PF_VMAX), fast), vload8(0, C + i0));
+    wall = clearance <= 0.0f;
+  }
+  /* the list requests the lanes' drift raises (pf_integrate raises its own) */
+  float8 a, b, c, d;
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) t[l] = XREF[i0 + l];
+  pf_transpose8(t, &a, &b, &c, &d);
+  a = nx - a;
+  b = ny - b;
+  c = nz - c;
+  if (pf_any8(~wall & (pf_norm2_8(a, b, c) > PF_HALF_SKIN2))) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
+#if PF_INNER
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) t[l] = XPRUNE[i0 + l];
+  pf_transpose8(t, &a, &b, &c, &d);
+  a = nx - a;
+  b = ny - b;
+  c = nz - c;
+  if (pf_any8(~wall & (pf_norm2_8(a, b, c) > PF_HALF_INNER2))) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
+#endif
+  const float8 u2 = pf_norm2_8(ux, uy, uz);
+  const float8 ke = 0.5f * u2 / im, disp2 = pf_norm2_8(nx - x, ny - y, nz - z);
+  float4 xo[8], vo[8], fo[8];
+  pf_untranspose8(nx, ny, nz, r, xo);
+  pf_untranspose8(ux, uy, uz, im, vo);
+  pf_untranspose8(fx, fy, fz, fw, fo);
+  float kes[8], u2s[8], d2s[8], cls[8];
+  uint bs[8];
+  int ws[8];
+  vstore8(ke, 0, kes);
+  vstore8(u2, 0, u2s);
+  vstore8(disp2, 0, d2s);
+  vstore8(clearance, 0, cls);
+  vstore8(bits, 0, bs);
+  vstore8(wall, 0, ws);
+  for (uint l = 0; l < 8u; ++l) {
+    const uint i = i0 + l, rebuilt = rebuild && i == 0u ? 1u : 0u, pairs = (uint)fo[l].w;
+    if (ws[l] != 0) {
+      L1_out[i] = pf_integrate(i, xs[l], vs[l], (float4)(fo[l].xyz, 0.0f), bs[l], rebuilt, pairs, X_out, V_out, sdf,
+                               sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise, n);
+      continue;
+    }
+    X_out[i] = xo[l];
+    V_out[i] = vo[l];
+    if (sdf_dims.w != 0) C[i] = cls[l];
+    L1_out[i] = pf_record(kes[l], u2s[l], d2s[l], rebuilt, pairs, (bs[l] & PF_FLAGGED_BIT) ? 1u : 0u,
+                          (bs[l] & PF_OVERFLOW_BIT) ? 1u : 0u, n);
+  }
+}
+#endif
+
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
     __global const uint* counts, __global const float* slots, const uint cell_base, const float4 cell_origin,
@@ -1308,6 +1482,17 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   const uint i = get_global_id(0), lid = get_local_id(0), group = get_group_id(0);
   if (i == 0) request[request_clear] = 0u;
   float8 record = (float8)(0.0f);
+#if !PF_GPU_FORM
+  /* whole octets of particles 8 to a work-item (pf_advance8; the octet's
+   * other items idle), the rest one a work-item */
+  const uint n8 = PF_ADVANCE8 ? n & ~7u : 0u;
+  if (i < n8) {
+    if ((i & 7u) == 0u)
+      pf_advance8(i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise,
+                  force_rebuild || (request[request_read] & PF_REQUEST_REBUILD), F, force_groups, force_stride,
+                  build_bits, L1_out, n);
+  } else
+#endif
   if (i < n) {
     const float4 xi = X[i];
     const float4 vi = V[i];
@@ -1395,66 +1580,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     const uint pairs = (uint)force.w;
     force.w = 0.0f;
 #endif
-    float4 u = vi;
-    u.w = 0.0f;
-    u = (u + (PF_DT * inv_mi) * force) * PF_DAMP;
-    /* sqrt(dot()), not length(): PoCL's length() guards against overflow
-     * with branches these magnitudes never need */
-    const float speed = sqrt(dot(u, u));
-    if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
-    const float capped_speed = speed > PF_VMAX ? PF_VMAX : speed; /* |u| now */
-    float4 xn = xi + PF_DT * u;
-    xn.w = ri;
-    if (sdf_dims.w != 0) {
-      float clearance = C[i] - 2.0f * PF_DT * capped_speed;
-      if (clearance <= 0.0f) {
-        float g[3];
-        float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
-                                  sdf_origin.w, xn.x, xn.y, xn.z, g);
-        const float4 grid_pos = (xn - sdf_origin) * sdf_origin.w;
-        const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
-                                grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
-                                grid_pos.z > (float)(sdf_dims.z - 1);
-        if (phi > 0.0f || outside_box) {
-          bits |= PF_FLAGGED_BIT;
-          flags[i] = 1u;
-        }
-        if (phi > -ri) {
-          for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
-            const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-            if (!(gl > 1e-20f)) break;
-            const float push = (phi + ri) / gl;
-            xn.x -= push * g[0];
-            xn.y -= push * g[1];
-            xn.z -= push * g[2];
-            phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
-                                sdf_origin.w, xn.x, xn.y, xn.z, g);
-          }
-          const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-          if (gl > 1e-20f) {
-            const float4 nrm = (float4)(g[0], g[1], g[2], 0.0f) / gl;
-            u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
-          }
-        }
-        clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
-      }
-      C[i] = clearance;
-    }
-    X_out[i] = xn;
-    V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
-    float4 dxn = xn - xi;
-    dxn.w = 0.0f;
-    float4 drift = xn - XREF[i];
-    drift.w = 0.0f;
-    if (dot(drift, drift) > PF_HALF_SKIN2) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
-#if !PF_GPU_FORM && PF_INNER
-    float4 moved = xn - XPRUNE[i];
-    moved.w = 0.0f;
-    if (dot(moved, moved) > PF_HALF_INNER2) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
-#endif
-    const float u2 = dot(u, u);
-    record = pf_record(0.5f * u2 / inv_mi, u2, dot(dxn, dxn), rebuilt, pairs,
-                       (bits & PF_FLAGGED_BIT) ? 1u : 0u, (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
+    record = pf_integrate(i, xi, vi, force, bits, rebuilt, pairs, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
+                          XREF, XPRUNE, request, request_raise, n);
   }
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */
 #if PF_GPU_FORM
@@ -1469,7 +1596,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (lid == 1u && group < g2_prev) L2_out[group] = s;
   if (lid == 2u && group == 0u && g2_prev2 > 0u) history[slot_prev2] = s;
 #else
-  if (i < max(n, 1u)) L1_out[i] = record; /* no particles: one empty record */
+  if (i >= n8 && i < max(n, 1u)) L1_out[i] = record; /* (octets: pf_advance8's) no particles: one empty record */
   const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
   /* chunk `group` by the group's first item, so that the chunks spread over the cores */
   if (lid == 0u && group < g2_prev)
