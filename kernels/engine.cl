@@ -69,7 +69,9 @@
  * (GPUs): L1 holds one sum a work-group, made in local memory, and the
  * chunk and final sums are group sums too (two levels: PF_WG_ROOT items sum
  * PF_WG / PF_WG_ROOT records each, then one item sums theirs). Without it
- * (CPU devices): L1 holds each particle's record, chunk c is the serial
+ * (CPU devices): L1 holds a record for each whole octet of particles
+ * (8 consecutive, the first at a multiple of 8), then one for each
+ * particle after the last octet; chunk c is the serial
  * sum of group c's first item, and work-item 0 sums the L2 partials: no barrier,
  * which PoCL pays for in loop overhead. finalize_history finishes the (at
  * most two) steps still in flight by the same sums.
@@ -1366,16 +1368,35 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
 }
 
 #if !PF_GPU_FORM
+/* `advance` for particle i alone (CPU form): its force from the force
+ * buffers (w: overlapping pairs; zeroed for the next step), then
+ * pf_integrate. Returns its record. */
+float8 pf_advance_one(uint i, __global const float4* X, __global const float4* V, __global float4* X_out,
+                      __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
+                      __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
+                      __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
+                      uint force_stride, __global const uint* build_bits, uint n) {
+  float4 force = (float4)(0.0f);
+  for (uint g = 0; g < force_groups; ++g) {
+    force += F[(size_t)g * force_stride + i];
+    F[(size_t)g * force_stride + i] = (float4)(0.0f);
+  }
+  const uint pairs = (uint)force.w;
+  force.w = 0.0f;
+  return pf_integrate(i, X[i], V[i], force, rebuild ? build_bits[i] : 0u, rebuild && i == 0u ? 1u : 0u, pairs, X_out,
+                      V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise, n);
+}
+
 /* `advance` for the 8 particles i0..i0+7 as float8 lanes (CPU form):
  * pf_integrate's arithmetic on all 8 at once, the lanes whose clearance
  * bound ran out (the wall is near: rare) handed to pf_integrate itself.
  * Writes their records to L1_out. PoCL runs `advance`'s work-items one
  * after the other, scalar, so without this a particle cost ~80 cycles. */
-void pf_advance8(uint i0, __global const float4* X, __global const float4* V, __global float4* X_out,
+float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, __global float4* X_out,
                  __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
                  __global float* C, __global const float4* XREF, __global const float4* XPRUNE, __global uint* request,
                  uint request_raise, uint rebuild, __global float4* F, uint force_groups, uint force_stride,
-                 __global const uint* build_bits, __global float8* L1_out, uint n) {
+                 __global const uint* build_bits, uint n) {
   float4 xs[8], vs[8], t[8];
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) {
@@ -1449,19 +1470,22 @@ void pf_advance8(uint i0, __global const float4* X, __global const float4* V, __
   vstore8(clearance, 0, cls);
   vstore8(bits, 0, bs);
   vstore8(wall, 0, ws);
+  float8 record = (float8)(0.0f);
   for (uint l = 0; l < 8u; ++l) {
     const uint i = i0 + l, rebuilt = rebuild && i == 0u ? 1u : 0u, pairs = (uint)fo[l].w;
     if (ws[l] != 0) {
-      L1_out[i] = pf_integrate(i, xs[l], vs[l], (float4)(fo[l].xyz, 0.0f), bs[l], rebuilt, pairs, X_out, V_out, sdf,
-                               sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise, n);
+      record = pf_partial_add(record, pf_integrate(i, xs[l], vs[l], (float4)(fo[l].xyz, 0.0f), bs[l], rebuilt, pairs,
+                                                   X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE,
+                                                   request, request_raise, n));
       continue;
     }
     X_out[i] = xo[l];
     V_out[i] = vo[l];
     if (sdf_dims.w != 0) C[i] = cls[l];
-    L1_out[i] = pf_record(kes[l], u2s[l], d2s[l], rebuilt, pairs, (bs[l] & PF_FLAGGED_BIT) ? 1u : 0u,
-                          (bs[l] & PF_OVERFLOW_BIT) ? 1u : 0u, n);
+    record = pf_partial_add(record, pf_record(kes[l], u2s[l], d2s[l], rebuilt, pairs, (bs[l] & PF_FLAGGED_BIT) ? 1u : 0u,
+                                              (bs[l] & PF_OVERFLOW_BIT) ? 1u : 0u, n));
   }
+  return record;
 }
 #endif
 
@@ -1483,22 +1507,37 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (i == 0) request[request_clear] = 0u;
   float8 record = (float8)(0.0f);
 #if !PF_GPU_FORM
-  /* whole octets of particles 8 to a work-item (pf_advance8; the octet's
-   * other items idle), the rest one a work-item */
-  const uint n8 = PF_ADVANCE8 ? n & ~7u : 0u;
+  /* Whole octets of particles 8 to a work-item (the octet's other items
+   * idle), each with one level-1 record, then the rest one a work-item:
+   * pf_advance8, or with PF_ADVANCE8 0 (tests) the same one particle at a
+   * time. */
+  const uint n8 = n & ~7u, rebuild = force_rebuild || (request[request_read] & PF_REQUEST_REBUILD);
   if (i < n8) {
-    if ((i & 7u) == 0u)
-      pf_advance8(i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise,
-                  force_rebuild || (request[request_read] & PF_REQUEST_REBUILD), F, force_groups, force_stride,
-                  build_bits, L1_out, n);
-  } else
+    if ((i & 7u) == 0u) {
+#if PF_ADVANCE8
+      record = pf_advance8(i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
+                           request_raise, rebuild, F, force_groups, force_stride, build_bits, n);
+#else
+      for (uint l = 0; l < 8u; ++l)
+        record = pf_partial_add(record, pf_advance_one(i + l, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
+                                                       XREF, XPRUNE, request, request_raise, rebuild, F, force_groups,
+                                                       force_stride, build_bits, n));
 #endif
+      L1_out[i / 8u] = record;
+    }
+  } else if (i < n) {
+    L1_out[n8 / 8u + (i - n8)] = pf_advance_one(i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF,
+                                                XPRUNE, request, request_raise, rebuild, F, force_groups, force_stride,
+                                                build_bits, n);
+  } else if (i == 0u) {
+    L1_out[0] = record; /* no particles: one empty record */
+  }
+#else
   if (i < n) {
     const float4 xi = X[i];
     const float4 vi = V[i];
     const float ri = xi.w, inv_mi = vi.w;
     uint bits = 0u, rebuilt = 0u;
-#if PF_GPU_FORM
     __global uint* row = PF_ROW(list, i);
     uint count;
     if (force_rebuild || (request[request_read] & PF_REQUEST_REBUILD)) {
@@ -1564,25 +1603,10 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
       }
     }
     const float4 force = (float4)((float)fx, (float)fy, (float)fz, 0.0f) * (1.0f / PF_FIX_SCALE);
-#else
-    /* pair_forces summed each pair's force into both particles' rows of
-     * the force buffers (w: overlapping pairs); add them up, zeroed for the
-     * next step */
-    if (force_rebuild || (request[request_read] & PF_REQUEST_REBUILD)) {
-      bits |= build_bits[i];
-      rebuilt = i == 0u;
-    }
-    float4 force = (float4)(0.0f);
-    for (uint g = 0; g < force_groups; ++g) {
-      force += F[(size_t)g * force_stride + i];
-      F[(size_t)g * force_stride + i] = (float4)(0.0f);
-    }
-    const uint pairs = (uint)force.w;
-    force.w = 0.0f;
-#endif
     record = pf_integrate(i, xi, vi, force, bits, rebuilt, pairs, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
                           XREF, XPRUNE, request, request_raise, n);
   }
+#endif
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */
 #if PF_GPU_FORM
   const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
@@ -1596,7 +1620,6 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (lid == 1u && group < g2_prev) L2_out[group] = s;
   if (lid == 2u && group == 0u && g2_prev2 > 0u) history[slot_prev2] = s;
 #else
-  if (i >= n8 && i < max(n, 1u)) L1_out[i] = record; /* (octets: pf_advance8's) no particles: one empty record */
   const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
   /* chunk `group` by the group's first item, so that the chunks spread over the cores */
   if (lid == 0u && group < g2_prev)
