@@ -12,9 +12,14 @@
 # Differences: LAMMPS runs a periodic box, pfill a walled box (its wall
 # costs are in).
 #
-#   bench/compare_lammps.sh [BUILD_DIR]     (default: build)
+# With ROUNDS > 1 each case alternates the two programs ROUNDS times and
+# prints the medians: the rates', and the ratios' of each round's pair
+# (this machine's speed swings by 20-30% within minutes).
+#
+#   bench/compare_lammps.sh [BUILD_DIR [ROUNDS]]     (defaults: build, 1)
 set -euo pipefail
 build=${1:-build}
+rounds=${2:-1}
 bench="$build/bench/bench_step"
 command -v lmp >/dev/null || { echo "compare_lammps: lmp not found; apt-get install lammps"; exit 1; }
 [ -x "$bench" ] || { echo "compare_lammps: $bench not found; build first (scripts/build.sh)"; exit 1; }
@@ -56,7 +61,7 @@ IN
 
 # pfill_rate N CUTOFF_LABEL -> "steps/s cpu-seconds/step" from bench_step's text line
 pfill_rate() {
-  "$bench" --only "$1" | awk -v label="$2" '/^N=/ && index($0, label) && !index($0, "+b") {
+  "$bench" --only "$1" --cutoff "$([ "$2" = "2.5 sigma" ] && echo lj || echo repulsive)" | awk -v label="$2" '/^N=/ && index($0, label) && !index($0, "+b") {
     for (i = 1; i < NF; ++i) {
       if ($(i + 1) == "steps/s") rate = $i
       if ($(i + 1) == "cpu-us/step") cpu = $i / 1e6
@@ -64,25 +69,34 @@ pfill_rate() {
     print rate, cpu; exit }'
 }
 
-# row LABEL UNIT_SCALE LAMMPS_RATE LAMMPS_CPU PFILL_RATE PFILL_CPU: rates (x scale), wall
-# ratio, and the ratio of CPU time per step (steadier on a shared machine).
+# row LABEL < lines "LAMMPS_RATE LAMMPS_CPU PFILL_RATE PFILL_CPU" (one a round): the
+# median rates, the median wall ratio, and the median ratio of CPU time per
+# step (steadier on a shared machine).
 row() {
-  awk -v name="$1" -v k="$2" -v lr="$3" -v lc="$4" -v pr="$5" -v pc="$6" 'BEGIN {
-    printf "%-34s %12.4g %12.4g %7.2f %11.2f\n", name, lr * k, pr * k, pr / lr, lc / pc }'
+  awk -v name="$1" '
+    function median(a, n,   i, j, t) {
+      for (i = 2; i <= n; ++i) for (j = i; j > 1 && a[j - 1] > a[j]; --j) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
+      return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2
+    }
+    { ++n; lr[n] = $1; pr[n] = $3; w[n] = $3 / $1; c[n] = $2 / $4 }
+    END { printf "%-34s %12.4g %12.4g %7.2f %11.2f\n", name, median(lr, n), median(pr, n), median(w, n), median(c, n) }'
 }
 
 printf "%-34s %12s %12s %7s %11s\n" "case" "LAMMPS" "pfill" "ratio" "cpu ratio"
 for cutoff in 2.5 1.122462; do
   label=$([ "$cutoff" = 2.5 ] && echo "2.5 sigma" || echo "repulsive")
-  read -r atoms lsteps lcpu < <(lammps_rate 29 "$cutoff" 200 1000)
-  read -r psteps pcpu < <(pfill_rate 100000 "$label")
-  # Per particle: LAMMPS has 4 * 29^3 atoms, pfill 1e5.
-  row "N=1e5 $label (particle-steps/s)" 1 "$(awk -v a="$atoms" -v s="$lsteps" 'BEGIN {print a * s}')" \
-      "$(awk -v a="$atoms" -v c="$lcpu" 'BEGIN {print c / a}')" "$(awk -v s="$psteps" 'BEGIN {print s * 1e5}')" \
-      "$(awk -v c="$pcpu" 'BEGIN {print c / 1e5}')"
+  for ((r = 0; r < rounds; ++r)); do
+    read -r atoms lsteps lcpu < <(lammps_rate 29 "$cutoff" 200 1000)
+    read -r psteps pcpu < <(pfill_rate 100000 "$label")
+    # Per particle: LAMMPS has 4 * 29^3 atoms, pfill 1e5.
+    awk -v a="$atoms" -v s="$lsteps" -v c="$lcpu" -v ps="$psteps" -v pc="$pcpu" 'BEGIN {
+      print a * s, c / a, ps * 1e5, pc / 1e5 }'
+  done | row "N=1e5 $label (particle-steps/s)"
 done
-read -r atoms lsteps lcpu < <(lammps_rate 10 1.122462 4000 1)
-read -r psteps pcpu < <(pfill_rate 4000 "repulsive")
-row "N=4000 repulsive (steps/s, thermo)" 1 "$lsteps" "$lcpu" "$psteps" "$pcpu"
-echo "ratio: pfill / LAMMPS wall rates; cpu ratio: LAMMPS / pfill CPU time per particle-step (all processes or threads)."
+for ((r = 0; r < rounds; ++r)); do
+  read -r atoms lsteps lcpu < <(lammps_rate 10 1.122462 4000 1)
+  read -r psteps pcpu < <(pfill_rate 4000 "repulsive")
+  echo "$lsteps $lcpu $psteps $pcpu"
+done | row "N=4000 repulsive (steps/s, thermo)"
+echo "ratio: pfill / LAMMPS wall rates; cpu ratio: LAMMPS / pfill CPU time per particle-step (all processes or threads); medians of $rounds round(s)."
 echo "(LAMMPS: $procs MPI processes, -sf opt; pfill $("$bench" --only 1 | head -1); load: $(cut -d' ' -f1-3 /proc/loadavg))"
