@@ -1387,6 +1387,17 @@ float8 pf_advance_one(uint i, __global const float4* X, __global const float4* V
                       V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise, n);
 }
 
+/* The lanes whose new position (x, y, z) lies more than sqrt(limit2)
+ * from ref[0..7] (where the lists were built or pruned). */
+int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float limit2) {
+  float4 t[8];
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) t[l] = ref[l];
+  float8 a, b, c, d;
+  pf_transpose8(t, &a, &b, &c, &d);
+  return pf_norm2_8(x - a, y - b, z - c) > limit2;
+}
+
 /* `advance` for the 8 particles i0..i0+7 as float8 lanes (CPU form):
  * pf_integrate's arithmetic on all 8 at once, the lanes whose clearance
  * bound ran out (the wall is near: rare) handed to pf_integrate itself.
@@ -1438,22 +1449,11 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
     wall = clearance <= 0.0f;
   }
   /* the list requests the lanes' drift raises (pf_integrate raises its own) */
-  float8 a, b, c, d;
-#pragma unroll
-  for (uint l = 0; l < 8u; ++l) t[l] = XREF[i0 + l];
-  pf_transpose8(t, &a, &b, &c, &d);
-  a = nx - a;
-  b = ny - b;
-  c = nz - c;
-  if (pf_any8(~wall & (pf_norm2_8(a, b, c) > PF_HALF_SKIN2))) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
+  if (pf_any8(~wall & pf_drifted8(XREF + i0, nx, ny, nz, PF_HALF_SKIN2)))
+    atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
 #if PF_INNER
-#pragma unroll
-  for (uint l = 0; l < 8u; ++l) t[l] = XPRUNE[i0 + l];
-  pf_transpose8(t, &a, &b, &c, &d);
-  a = nx - a;
-  b = ny - b;
-  c = nz - c;
-  if (pf_any8(~wall & (pf_norm2_8(a, b, c) > PF_HALF_INNER2))) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
+  if (pf_any8(~wall & pf_drifted8(XPRUNE + i0, nx, ny, nz, PF_HALF_INNER2)))
+    atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
 #endif
   const float8 u2 = pf_norm2_8(ux, uy, uz);
   const float8 ke = 0.5f * u2 / im, disp2 = pf_norm2_8(nx - x, ny - y, nz - z);
