@@ -46,7 +46,6 @@ using namespace pfill;
 using bench::kRadius;
 using bench::box_field;
 using bench::fcc_system;
-using bench::sampled_field;
 using Clock = std::chrono::steady_clock;
 
 namespace {
@@ -239,7 +238,7 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
   p.skin_sigma = skin_sigma;
   // Sphere holding `target` spheres at packing 0.6.
   const double R = std::cbrt(3 * target * (4.0 / 3.0) * M_PI * std::pow(kRadius, 3) / (0.6 * 4 * M_PI));
-  const ScalarGrid field = sampled_field(R, kRadius / 2, [R](const Vec3& x) { return length(x) - R; });
+  const ScalarGrid field = sampled_grid(R, kRadius / 2, [R](const Vec3& x) { return length(x) - R; });
   const Vec3 sites[2] = {{-R / 2, 0, 0}, {R / 2, 0, 0}};
   const uint64_t step_cap = 40 * target;
 

@@ -18,24 +18,9 @@ using namespace pfill;
 constexpr double kRadius = 0.5;
 constexpr double kPacking = 0.6;
 
-// `distance` sampled at `spacing` over [-extent, extent]^3 (plus two samples a side).
-template <class Distance>
-inline ScalarGrid sampled_field(double extent, double spacing, Distance distance) {
-  ScalarGrid g;
-  const int n = static_cast<int>(std::ceil(2 * extent / spacing)) + 5;
-  g.spacing = spacing;
-  g.origin = Vec3(-1, -1, -1) * (extent + 2 * spacing);
-  g.dims = {n, n, n};
-  g.values.resize(static_cast<size_t>(n) * n * n);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) g.values[g.index(i, j, k)] = static_cast<float>(distance(g.point(i, j, k)));
-  return g;
-}
-
 // The SDF of the box [-h, h]^3 sampled at `spacing`.
 inline ScalarGrid box_field(double h, double spacing) {
-  return sampled_field(h, spacing, [h](const Vec3& p) {
+  return sampled_grid(h, spacing, [h](const Vec3& p) {
     const Vec3 q{std::fabs(p.x) - h, std::fabs(p.y) - h, std::fabs(p.z) - h};
     const Vec3 out{std::max(q.x, 0.0), std::max(q.y, 0.0), std::max(q.z, 0.0)};
     return length(out) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);

@@ -215,9 +215,10 @@ float8 pf_partials_strided(__global const float8* src, uint count, uint lid) {
   return s;
 }
 
-/* Record a plus record b, as pf_record_merge, but by compares, not fmax
- * (whose NaN handling PoCL spends instructions on): the same maxima, a
- * NaN record losing either way. */
+/* pf_record_merge for a running sum a that starts from an empty record
+ * (the CPU form's serial sums): the maxima by compares, not fmax, whose
+ * NaN handling PoCL spends instructions on. A NaN in b loses, as with
+ * fmax, and a, built from such merges, holds none. */
 float8 pf_partial_add(float8 a, float8 b) {
   const uint4 ua = as_uint4(a.s4567), ub = as_uint4(b.s4567);
   return (float8)(a.s0 + b.s0, b.s1 > a.s1 ? b.s1 : a.s1, b.s2 > a.s2 ? b.s2 : a.s2, b.s3 > a.s3 ? b.s3 : a.s3,
@@ -718,7 +719,7 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
   uint apart[PF_LIST_CAP + 8u];
   for (uint k = 0; k < count; k += 8u) {
     float8 dx, dy, dz, rs;
-        pf_gather8(X, row + k, &dx, &dy, &dz, &rs); /* (1-2% faster here than the hardware gathers) */
+    pf_gather8(X, row + k, &dx, &dy, &dz, &rs); /* (1-2% faster here than the hardware gathers) */
     dx = xi.x - dx;
     dy = xi.y - dy;
     dz = xi.z - dz;
@@ -1286,16 +1287,6 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 #define PF_FIELD_SAMPLE pf_sdf_sample
 #endif
 
-/* The whole update of one particle (see the top of the file), plus the
- * reductions in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
- * (nx, ny, nz, has_walls). Work-items: at least n, and a group for each
- * level-2 partial of the last step. L1_out / L2_out: this step's level-1 partials and the
- * last step's level-2 ones; L1_prev: the last step's level-1 partials
- * (g1_prev; 0: none); L2_prev: the level-2 partials of the step before
- * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. On GPUs
- * the cells and lists are used here; on CPU devices pair_forces used them
- * and left the forces in F (force_groups buffers, force_stride apart) and
- * the list build's overflow bits in build_bits. */
 /* |a|^2 of a's x, y, z by explicit fused multiply-adds, as pf_norm2_8:
  * pf_integrate and pf_advance8 then round alike, whatever the compiler
  * contracts, so a particle moves the same in an octet as alone (the
@@ -1401,13 +1392,14 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
 /* `advance` for the 8 particles i0..i0+7 as float8 lanes (CPU form):
  * pf_integrate's arithmetic on all 8 at once, the lanes whose clearance
  * bound ran out (the wall is near: rare) handed to pf_integrate itself.
- * Writes their records to L1_out. PoCL runs `advance`'s work-items one
- * after the other, scalar, so without this a particle cost ~80 cycles. */
+ * Returns the octet's record: the lanes' records added in lane order.
+ * PoCL runs `advance`'s work-items one after the other, scalar; this takes
+ * 15% off `advance` at N = 1e5. */
 float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, __global float4* X_out,
-                 __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
-                 __global float* C, __global const float4* XREF, __global const float4* XPRUNE, __global uint* request,
-                 uint request_raise, uint rebuild, __global float4* F, uint force_groups, uint force_stride,
-                 __global const uint* build_bits, uint n) {
+                   __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
+                   __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
+                   __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
+                   uint force_stride, __global const uint* build_bits, uint n) {
   float4 xs[8], vs[8], t[8];
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) {
@@ -1489,6 +1481,17 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
 }
 #endif
 
+/* The whole update of one particle (see the top of the file), plus the
+ * reductions in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
+ * (nx, ny, nz, has_walls). Work-items: at least n (on CPU devices one in
+ * eight takes a whole octet, pf_advance8), and a group for each
+ * level-2 partial of the last step. L1_out / L2_out: this step's level-1 partials and the
+ * last step's level-2 ones; L1_prev: the last step's level-1 partials
+ * (g1_prev; 0: none); L2_prev: the level-2 partials of the step before
+ * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. On GPUs
+ * the cells and lists are used here; on CPU devices pair_forces used them
+ * and left the forces in F (force_groups buffers, force_stride apart) and
+ * the list build's overflow bits in build_bits. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
     __global const uint* counts, __global const float* slots, const uint cell_base, const float4 cell_origin,

@@ -22,27 +22,12 @@ inline double box_distance(const Vec3& p, const Vec3& h) {
   return length(outside) + std::min(std::max(q.x, std::max(q.y, q.z)), 0.0);
 }
 
-// A grid over [-extent, extent]^3 (plus two cells) sampling `distance`.
-template <typename F>
-ScalarGrid make_grid(double extent, double spacing, F distance) {
-  ScalarGrid g;
-  const int n = static_cast<int>(std::ceil(2 * extent / spacing)) + 5;
-  g.spacing = spacing;
-  g.origin = Vec3(-1, -1, -1) * (extent + 2 * spacing);
-  g.dims = {n, n, n};
-  g.values.resize(static_cast<size_t>(n) * n * n);
-  for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j)
-      for (int i = 0; i < n; ++i) g.values[g.index(i, j, k)] = static_cast<float>(distance(g.point(i, j, k)));
-  return g;
-}
-
 inline ScalarGrid sphere_grid(double R, double spacing) {
-  return make_grid(R, spacing, [R](const Vec3& p) { return sphere_distance(p, R); });
+  return sampled_grid(R, spacing, [R](const Vec3& p) { return sphere_distance(p, R); });
 }
 inline ScalarGrid box_grid(const Vec3& h, double spacing) {
   const double e = std::max(h.x, std::max(h.y, h.z));
-  return make_grid(e, spacing, [h](const Vec3& p) { return box_distance(p, h); });
+  return sampled_grid(e, spacing, [h](const Vec3& p) { return box_distance(p, h); });
 }
 
 // n particles of radius r, centres inside `inside(p) <= -r`, pairwise at

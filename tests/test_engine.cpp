@@ -40,6 +40,44 @@ EngineParams sphere_params(double cutoff_sigma) {
   return p;
 }
 
+// The pruning tests' settings (rc 2.5): no damping, a list skin of 1
+// sigma (the lists' rebuild would come only after 50 steps of B's drift)
+// and an inner skin of 0.1 (a pruning every 5 steps of it).
+EngineParams pruning_params(double restitution) {
+  EngineParams p = sphere_params(2.5);
+  p.damping = 0;
+  p.restitution = restitution;
+  p.skin_sigma = 1.0;
+  p.inner_skin_sigma = 0.1;
+  p.domain.add({-8, -8, -8});
+  p.domain.add({8, 8, 8});
+  return p;
+}
+
+// A at rest near the origin and B at x = b_x, flying at A at 0.01 sigma a step.
+std::vector<Particle> flying_pair(const EngineConstants& c, double b_x) {
+  std::vector<Particle> two(2);
+  two[0].position = {0, 0.1, 0.2};
+  two[1].position = {b_x, 0.1, 0.2};
+  two[1].velocity = {-0.01 * c.sigma / c.dt, 0, 0};
+  two[0].radius = two[1].radius = 0.5;
+  return two;
+}
+
+// After a pruning test's run: the lists rebuilt on the first step only,
+// and both particles where the brute-force reference has them.
+void check_pair_as_reference(Engine& engine, const ReferenceEngine& ref) {
+  const auto got = engine.read_particles();
+  size_t rebuilds = 0;
+  for (const StepRecord& r : engine.read_history()) rebuilds += r.lists_rebuilt;
+  CHECK(rebuilds == 1);
+  for (int k = 0; k < 2; ++k) {
+    INFO("particle " << k);
+    CHECK(length(got[k].velocity - ref.particles()[k].velocity) < 1e-3 * length(ref.particles()[k].velocity));
+    CHECK(length(got[k].position - ref.particles()[k].position) < 1e-5);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("engine: the force between two particles is the analytic derivative of the potential") {
@@ -128,35 +166,18 @@ TEST_CASE("engine: inner lists (dynamic pruning) are pruned again before a pair 
   // would rebuild the lists (skin 1 sigma: half of it). Only pruning again
   // on B's drift (half the inner skin) brings the pair into the inner list,
   // and so A's pull on B and B's on A match the brute-force reference.
-  EngineParams p = sphere_params(2.5);
-  p.damping = 0;
-  p.restitution = 1;
-  p.skin_sigma = 1.0;
-  p.inner_skin_sigma = 0.1;
-  p.domain.add({-8, -8, -8});
-  p.domain.add({8, 8, 8});
+  const EngineParams p = pruning_params(1.0);
   Engine engine(shared_device(), p);
   ReferenceEngine ref(p);
   const EngineConstants& c = engine.constants();
-  std::vector<Particle> two(2);
-  two[0].position = {0, 0.1, 0.2};
-  two[1].position = {c.cutoff + 0.305 * c.sigma, 0.1, 0.2};  // (not a whole number of steps from it)
-  two[1].velocity = {-0.01 * c.sigma / c.dt, 0, 0};  // 0.01 sigma a step: at the cutoff after 30 steps
-  two[0].radius = two[1].radius = 0.5;
+  // (B not a whole number of steps from the cutoff; at it after 30 steps)
+  const std::vector<Particle> two = flying_pair(c, c.cutoff + 0.305 * c.sigma);
   engine.add_particles(two);
   ref.add_particles(two);
   for (int s = 0; s < 45; ++s) ref.step();
   engine.run_steps(45);  // B at cutoff - 0.15 sigma; the lists' rebuild would come at 50
-  const auto got = engine.read_particles();
-  size_t rebuilds = 0;
-  for (const StepRecord& r : engine.read_history()) rebuilds += r.lists_rebuilt;
-  CHECK(rebuilds == 1);  // the first step's only
   REQUIRE(length(ref.particles()[0].velocity) > 1e-4);  // A was pulled
-  for (int k = 0; k < 2; ++k) {
-    INFO("particle " << k);
-    CHECK(length(got[k].velocity - ref.particles()[k].velocity) < 1e-3 * length(ref.particles()[k].velocity));
-    CHECK(length(got[k].position - ref.particles()[k].position) < 1e-5);
-  }
+  check_pair_as_reference(engine, ref);
 }
 
 TEST_CASE("engine: advance moves a particle alike in an octet (8 lanes) and alone") {
@@ -225,22 +246,12 @@ TEST_CASE("engine: a pair pruned as unable to touch is pruned again before it to
   // rebuild the lists. The prunings on its drift (every 5 steps) must move
   // it into the first run in time, or the dashpot misses steps of contact
   // and the velocities leave the reference's.
-  EngineParams p = sphere_params(2.5);
-  p.damping = 0;
-  p.restitution = 0.3;
-  p.skin_sigma = 1.0;
-  p.inner_skin_sigma = 0.1;
-  p.domain.add({-8, -8, -8});
-  p.domain.add({8, 8, 8});
+  const EngineParams p = pruning_params(0.3);
   Engine engine(shared_device(), p);
   ReferenceEngine ref(p);
   const EngineConstants& c = engine.constants();
   const double touch = std::max(1.0, c.contact_distance);  // radii 0.5
-  std::vector<Particle> two(2);
-  two[0].position = {0, 0.1, 0.2};
-  two[1].position = {touch + c.inner_skin + 0.035 * c.sigma, 0.1, 0.2};
-  two[1].velocity = {-0.01 * c.sigma / c.dt, 0, 0};  // 0.01 sigma a step
-  two[0].radius = two[1].radius = 0.5;
+  const std::vector<Particle> two = flying_pair(c, touch + c.inner_skin + 0.035 * c.sigma);
   engine.add_particles(two);
   ref.add_particles(two);
   int touching_steps = 0;
@@ -250,15 +261,7 @@ TEST_CASE("engine: a pair pruned as unable to touch is pruned again before it to
   }
   engine.run_steps(24);
   REQUIRE(touching_steps >= 5);  // the pair was in contact for a while
-  const auto got = engine.read_particles();
-  size_t rebuilds = 0;
-  for (const StepRecord& r : engine.read_history()) rebuilds += r.lists_rebuilt;
-  CHECK(rebuilds == 1);  // the first step's only
-  for (int k = 0; k < 2; ++k) {
-    INFO("particle " << k);
-    CHECK(length(got[k].velocity - ref.particles()[k].velocity) < 1e-3 * length(ref.particles()[k].velocity));
-    CHECK(length(got[k].position - ref.particles()[k].position) < 1e-5);
-  }
+  check_pair_as_reference(engine, ref);
 }
 
 TEST_CASE("engine: any number of pair-force buffers (cpu form) matches the reference") {

@@ -4,6 +4,7 @@
 /// (OpenCL side); neither side needs the other's headers.
 #pragma once
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -32,5 +33,22 @@ struct ScalarGrid {
     return origin + Vec3(dims[0] - 1, dims[1] - 1, dims[2] - 1) * spacing;
   }
 };
+
+/// `distance` (any callable Vec3 -> double, e.g. an analytic signed
+/// distance) sampled at `spacing` over [-extent, extent]^3, plus two
+/// samples a side.
+template <typename Distance>
+ScalarGrid sampled_grid(double extent, double spacing, Distance distance) {
+  ScalarGrid g;
+  const int n = static_cast<int>(std::ceil(2 * extent / spacing)) + 5;
+  g.spacing = spacing;
+  g.origin = Vec3(-1, -1, -1) * (extent + 2 * spacing);
+  g.dims = {n, n, n};
+  g.values.resize(static_cast<size_t>(n) * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) g.values[g.index(i, j, k)] = static_cast<float>(distance(g.point(i, j, k)));
+  return g;
+}
 
 }  // namespace pfill

@@ -30,7 +30,8 @@ Program::Program(Device& device, const std::vector<std::string>& files,
   program_ = cl::Program(device.context(), source_, false, &status);
   check_cl(status, "clCreateProgramWithSource");
   // PFILL_CL_OPTIONS: extra build options for every program (developers'
-  // A/B runs of kernel variants, e.g. "-DPF_HW_SCATTER=0"; bench/ab_step.sh)
+  // runs of kernel variants side by side, e.g. "-DPF_ADVANCE8=0";
+  // bench/bench_variants)
   std::string all_options = options;
   if (const char* extra = std::getenv("PFILL_CL_OPTIONS")) all_options += std::string(all_options.empty() ? "" : " ") + extra;
   const cl_int build = program_.build(std::vector<cl::Device>{device.device()}, all_options.c_str());

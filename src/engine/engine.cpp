@@ -51,8 +51,6 @@ uint32_t as_uint(float f) {
   return u;
 }
 
-// derive_constants, plus (with field_image) the device's image support,
-// checked before the program (which then declares an image3d_t) is built.
 // EngineParams::step_form resolved for the device.
 bool uses_gpu_form(const Device& device, const EngineParams& p) {
   return p.step_form == StepForm::automatic ? device.info().type != "CPU" : p.step_form == StepForm::gpu;
@@ -64,6 +62,8 @@ EngineParams resolved_params(const Device& device, EngineParams p) {
   return p;
 }
 
+// derive_constants, plus (with field_image) the device's image support,
+// checked before the program (which then declares an image3d_t) is built.
 EngineConstants checked_constants(const Device& device, const EngineParams& p) {
   EngineConstants c = derive_constants(p);
   if (p.field_image && !device.device().getInfo<CL_DEVICE_IMAGE_SUPPORT>())

@@ -120,11 +120,11 @@ struct EngineConstants {
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
 
-/// Checks `p` (throws pfill::Error naming the bad setting) and derives the constants.
 /// The automatic skins (EngineParams::skin_sigma = 0) of the two step forms.
 constexpr double kCpuFormSkinSigma = 0.5;
 constexpr double kGpuFormSkinSigma = 0.3;
 
+/// Checks `p` (throws pfill::Error naming the bad setting) and derives the constants.
 EngineConstants derive_constants(const EngineParams& p);
 
 /// Mass of a particle of radius r: (r / p.radius)^3.
