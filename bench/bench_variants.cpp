@@ -5,7 +5,11 @@
 // runs (bench/ab_step.sh) resolve only large effects; steps taken in turn
 // meet the same swings, so the two fastest tenths compare within a few %.
 // A variant's words of the form name=value set EngineParams instead:
-// skin, inner_skin (sigma), inner_lists, pair_queue, newton (on, off).
+// skin, inner_skin (sigma), inner_lists, pair_queue, newton (on, off);
+// kernels=DIR builds that variant from the kernel files in DIR
+// (PFILL_KERNEL_DIR), e.g. another revision's:
+//   mkdir /tmp/old && git show HEAD:kernels/engine.cl > /tmp/old/engine.cl
+//   (and physics.cl), then bench_variants "kernels=/tmp/old" ""
 // Prints, per variant, the update time of a step (pair_forces + advance,
 // profiled) as its median and fastest tenth over the steps that did not
 // rebuild the lists, its median over those that did (and their number), (whose fastest tenth is the steadiest figure for the
@@ -43,8 +47,9 @@ double quantile(std::vector<double> v, double q) {
   return v[static_cast<size_t>(q * (v.size() - 1))];
 }
 
-// The build options of a variant, with its name=value words applied to `p`.
-std::string apply_words(const std::string& spec, EngineParams& p) {
+// The build options of a variant, with its name=value words applied to `p`
+// (kernels=DIR to `kernel_dir`).
+std::string apply_words(const std::string& spec, EngineParams& p, std::string& kernel_dir) {
   std::istringstream in(spec);
   std::string word, options;
   while (in >> word) {
@@ -54,7 +59,8 @@ std::string apply_words(const std::string& spec, EngineParams& p) {
       continue;
     }
     const std::string name = word.substr(0, eq), value = word.substr(eq + 1);
-    if (name == "skin") p.skin_sigma = std::stod(value);
+    if (name == "kernels") kernel_dir = value;
+    else if (name == "skin") p.skin_sigma = std::stod(value);
     else if (name == "inner_skin") p.inner_skin_sigma = std::stod(value);
     else if (name == "inner_lists") p.inner_lists = value == "on" ? InnerLists::on : InnerLists::off;
     else if (name == "pair_queue") p.pair_queue = value == "on" ? PairQueue::on : PairQueue::off;
@@ -108,9 +114,11 @@ int main(int argc, char** argv) {
     for (int s = 0; s < 2; ++s) {
       v[s].options = options[s];
       EngineParams ps_params = p;
-      const std::string build = apply_words(options[s], ps_params);
+      std::string kernel_dir;
+      const std::string build = apply_words(options[s], ps_params, kernel_dir);
       // the programs are built in the constructor, with the options of the moment
       setenv("PFILL_CL_OPTIONS", build.c_str(), 1);
+      setenv("PFILL_KERNEL_DIR", kernel_dir.c_str(), 1);
       v[s].engine = std::make_unique<Engine>(device, ps_params);
       v[s].engine->set_field(field);
       v[s].engine->add_particles(ps);

@@ -912,6 +912,12 @@ uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global uint* row, 
 #endif
 
 #if !PF_GPU_FORM
+/* The `valid` lanes' entries jj into the running lowest and highest. */
+void pf_span_add8(uint8* jlo, uint8* jhi, uint8 jj, int8 valid) {
+  *jlo = min(*jlo, select((uint8)(UINT_MAX), jj, valid));
+  *jhi = max(*jhi, select((uint8)(0u), jj, valid));
+}
+
 /* F at entry jj[l] (PF_ENTRY) -= (gx, gy, gz, 0).sl for the 8 lanes, one
  * read-modify-write a lane (the lanes' entries differ, except lanes past a
  * row's end, which hold stale entries and a zero force). */
@@ -968,7 +974,7 @@ void pf_dashpots8(float8 dx, float8 dy, float8 dz, float8 inv_d, float8 uix, flo
  * spilled its constants and cost 4% more. */
 __attribute__((always_inline)) float4 pf_row_forces(uint i, float4 xi, float4 vi, __global const uint* row, uint count,
                                                     uint touching, __global const float4* X, __global const float4* V,
-                                                    __global float4* F) {
+                                                    __global float4* F, uint8* jlo, uint8* jhi) {
   const float ri = xi.w, inv_mi = vi.w;
   float8 fx = (float8)(0.0f), fy = (float8)(0.0f), fz = (float8)(0.0f);
   int8 overlaps = (int8)(0); /* -1 per overlapping pair */
@@ -1008,6 +1014,7 @@ __attribute__((always_inline)) float4 pf_row_forces(uint i, float4 xi, float4 vi
     fz += gz;
 #if PF_NEWTON
     pf_scatter_sub8(F, row + k, gx, gy, gz);
+    pf_span_add8(jlo, jhi, jj, valid);
 #endif
   }
   const int4 o4 = overlaps.lo + overlaps.hi;
@@ -1052,7 +1059,8 @@ void pf_gather8_private(__global const float4* X, const uint* idx, float8* x, fl
 
 /* The forces of the first `valid` (1..8) queued pairs, added to F (the
  * physics of pf_row_forces: pf_potential8 and pf_dashpots8). */
-void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global float4* F) {
+__attribute__((always_inline)) void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global float4* F,
+                                                   uint8* jlo, uint8* jhi) {
   const int8 ok = (int8)(0, 1, 2, 3, 4, 5, 6, 7) < (int8)((int)valid);
   const uint8 ii = vload8(0, q->i), jj = vload8(0, q->j);
   float8 dx = vload8(0, q->dx), dy = vload8(0, q->dy), dz = vload8(0, q->dz);
@@ -1077,13 +1085,15 @@ void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global
   pf_scatter_add8(F, q->i, gx, gy, gz, gw);
 #if PF_NEWTON
   pf_scatter_add8(F, q->j, -gx, -gy, -gz, (float8)(0.0f));
+  pf_span_add8(jlo, jhi, jj, ok);
 #endif
 }
 
 /* Particle i's list entries within reach, appended to the queue; each
- * full 8 are computed at once. */
-void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
-                   __global const float4* V, __global float4* F) {
+ * full 8 are computed at once. This and pf_queue_pairs8 are inlined: as
+ * calls they cost 5% and 4% more (repulsive, N = 1e5). */
+__attribute__((always_inline)) void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
+                   __global const float4* V, __global float4* F, uint8* jlo, uint8* jhi) {
   for (uint k = 0; k < count; k += 8u) {
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
     float8 dx, dy, dz, rs;
@@ -1127,7 +1137,7 @@ void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uin
     q->count = c;
 #endif
     if (q->count >= 8u) { /* a full batch; the rest (fewer than 8) moves to the front */
-      pf_queue_pairs8(q, 8u, V, F);
+      pf_queue_pairs8(q, 8u, V, F, jlo, jhi);
       q->count -= 8u;
       vstore8(vload8(1, q->i), 0, q->i);
       vstore8(vload8(1, q->j), 0, q->j);
@@ -1145,7 +1155,10 @@ void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uin
  * [w B, (w + 1) B), B = ceil(n / W), in order. With PF_NEWTON it sums
  * forces into its own buffer F + w * force_stride only (a few work-items,
  * one per core), so no two work-items write one word and the sums come out
- * the same on every run; without, it writes its particles' forces into F.
+ * the same on every run, and records in force_spans[w] the particles whose
+ * forces it changed there (its block and the partners it wrote to, mostly
+ * just past the block), so that `advance` reads and clears only those of
+ * the W buffers; without, it writes its particles' forces into F.
  * On the steps that rebuild the lists, each of those particles' lists is
  * rebuilt first; build_bits keeps the overflow bit for `advance`. Rows
  * filled by birth_linked's atomics (at most 4 newcomers, in sort_rows)
@@ -1156,10 +1169,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
     const uint force_stride, const int4 sort_rows, __global uint* inner_list, __global uint2* inner_count,
-    __global float4* XPRUNE, __global uint2* spans) {
+    __global float4* XPRUNE, __global uint2* spans, __global uint2* force_spans) {
   const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
   const uint end = min(n, (w + 1u) * per);
   __global float4* Fw = PF_NEWTON ? F + (size_t)w * force_stride : F;
+  /* the partners' entries (PF_ENTRY) this writes forces to: lowest, highest */
+  uint8 jlo = (uint8)(UINT_MAX), jhi = (uint8)(0u);
   const uint requested = request[request_read];
   const uint rebuild = force_rebuild || (requested & PF_REQUEST_REBUILD);
 #if PF_INNER
@@ -1235,9 +1250,9 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     touching = count;
 #endif
 #if PF_PAIR_QUEUE
-    pf_queue_push(&q, i, xi, row, count, X, V, Fw);
+    pf_queue_push(&q, i, xi, row, count, X, V, Fw, &jlo, &jhi);
 #else
-    Fw[i] += pf_row_forces(i, xi, V[i], row, count, touching, X, V, Fw);
+    Fw[i] += pf_row_forces(i, xi, V[i], row, count, touching, X, V, Fw, &jlo, &jhi);
 #endif
   }
 #if PF_PAIR_QUEUE
@@ -1247,8 +1262,16 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       q.j[l] = q.i[0];
       q.dx[l] = q.dy[l] = q.dz[l] = q.rs[l] = 0.0f;
     }
-    pf_queue_pairs8(&q, q.count, V, Fw);
+    pf_queue_pairs8(&q, q.count, V, Fw, &jlo, &jhi);
   }
+#endif
+#if PF_NEWTON
+  /* the particles whose entries in F_w this may have changed: the block
+   * and the partners it wrote to (`advance` reads and clears only those) */
+  const uint4 lo4 = min(jlo.lo, jlo.hi), hi4 = max(jhi.lo, jhi.hi);
+  const uint2 lo2 = min(lo4.lo, lo4.hi), hi2 = max(hi4.lo, hi4.hi);
+  const uint lo = min(lo2.x, lo2.y), hi = max(hi2.x, hi2.y), first = min(w * per, end);
+  force_spans[w] = (uint2)(min(first, lo >> 4), max(end, lo > hi ? 0u : (hi >> 4) + 1u));
 #endif
 }
 #endif
@@ -1366,9 +1389,14 @@ float8 pf_advance_one(uint i, __global const float4* X, __global const float4* V
                       __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
                       __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
                       __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
-                      uint force_stride, __global const uint* build_bits, uint n) {
+                      uint force_stride, __global const uint2* force_spans, __global const uint* build_bits,
+                      uint n) {
   float4 force = (float4)(0.0f);
   for (uint g = 0; g < force_groups; ++g) {
+#if PF_NEWTON
+    const uint2 span = force_spans[g];
+    if (i < span.x || i >= span.y) continue; /* zero there: pair_forces wrote elsewhere */
+#endif
     force += F[(size_t)g * force_stride + i];
     F[(size_t)g * force_stride + i] = (float4)(0.0f);
   }
@@ -1376,6 +1404,23 @@ float8 pf_advance_one(uint i, __global const float4* X, __global const float4* V
   force.w = 0.0f;
   return pf_integrate(i, X[i], V[i], force, rebuild ? build_bits[i] : 0u, rebuild && i == 0u ? 1u : 0u, pairs, X_out,
                       V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise, n);
+}
+
+/* Horizontal sum and maximum of 8 lanes (fixed pairwise order). */
+float pf_hsum8(float8 a) {
+  const float4 b = a.lo + a.hi;
+  const float2 c = b.lo + b.hi;
+  return c.x + c.y;
+}
+uint pf_hsum8u(uint8 a) {
+  const uint4 b = a.lo + a.hi;
+  const uint2 c = b.lo + b.hi;
+  return c.x + c.y;
+}
+float pf_hmax8(float8 a) {
+  const float4 b = fmax(a.lo, a.hi);
+  const float2 c = fmax(b.lo, b.hi);
+  return fmax(c.x, c.y);
 }
 
 /* The lanes whose new position (x, y, z) lies more than sqrt(limit2)
@@ -1391,15 +1436,16 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
 
 /* `advance` for the 8 particles i0..i0+7 as float8 lanes (CPU form):
  * pf_integrate's arithmetic on all 8 at once, the lanes whose clearance
- * bound ran out (the wall is near: rare) handed to pf_integrate itself.
- * Returns the octet's record: the lanes' records added in lane order.
- * PoCL runs `advance`'s work-items one after the other, scalar; this takes
- * 15% off `advance` at N = 1e5. */
+ * bound ran out (the wall is near) handed to pf_integrate itself.
+ * Returns the octet's record: the other lanes' by vector sums and maxima
+ * (a loop over the lanes cost a quarter of `advance`), then the wall
+ * lanes' added. PoCL runs `advance`'s work-items one after the other,
+ * scalar; this takes 15% off `advance` at N = 1e5. */
 float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, __global float4* X_out,
                    __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
                    __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
                    __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
-                   uint force_stride, __global const uint* build_bits, uint n) {
+                   uint force_stride, __global const uint2* force_spans, __global const uint* build_bits, uint n) {
   float4 xs[8], vs[8], t[8];
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) {
@@ -1412,6 +1458,10 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
   /* the force buffers' sums (w: overlapping pairs), zeroed for the next step */
   float8 fx = (float8)(0.0f), fy = fx, fz = fx, fw = fx;
   for (uint g = 0; g < force_groups; ++g) {
+#if PF_NEWTON
+    const uint2 span = force_spans[g];
+    if (i0 + 8u <= span.x || i0 >= span.y) continue; /* zero there: pair_forces wrote elsewhere */
+#endif
     __global float4* Fg = F + (size_t)g * force_stride + i0;
 #pragma unroll
     for (uint l = 0; l < 8u; ++l) t[l] = Fg[l];
@@ -1449,33 +1499,43 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
 #endif
   const float8 u2 = pf_norm2_8(ux, uy, uz);
   const float8 ke = 0.5f * u2 / im, disp2 = pf_norm2_8(nx - x, ny - y, nz - z);
-  float4 xo[8], vo[8], fo[8];
+  float4 xo[8], vo[8];
   pf_untranspose8(nx, ny, nz, r, xo);
   pf_untranspose8(ux, uy, uz, im, vo);
-  pf_untranspose8(fx, fy, fz, fw, fo);
-  float kes[8], u2s[8], d2s[8], cls[8];
-  uint bs[8];
-  int ws[8];
-  vstore8(ke, 0, kes);
-  vstore8(u2, 0, u2s);
-  vstore8(disp2, 0, d2s);
-  vstore8(clearance, 0, cls);
-  vstore8(bits, 0, bs);
-  vstore8(wall, 0, ws);
-  float8 record = (float8)(0.0f);
+  /* every lane's new state stored; the wall lanes' is overwritten by
+   * pf_integrate below, which reads their old clearance (kept in C) */
+#pragma unroll
   for (uint l = 0; l < 8u; ++l) {
-    const uint i = i0 + l, rebuilt = rebuild && i == 0u ? 1u : 0u, pairs = (uint)fo[l].w;
-    if (ws[l] != 0) {
-      record = pf_partial_add(record, pf_integrate(i, xs[l], vs[l], (float4)(fo[l].xyz, 0.0f), bs[l], rebuilt, pairs,
-                                                   X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE,
-                                                   request, request_raise, n));
-      continue;
+    X_out[i0 + l] = xo[l];
+    V_out[i0 + l] = vo[l];
+  }
+  if (sdf_dims.w != 0) vstore8(select(clearance, vload8(0, C + i0), wall), 0, C + i0);
+  /* the other lanes' records as one, by vector sums and maxima */
+  const int8 here = ~wall;
+  const uint8 pairs = convert_uint8(fw);
+  const uint8 one = (uint8)(1u), none = (uint8)(0u);
+  float8 record = pf_record(pf_hsum8(select((float8)(0.0f), ke, here)), pf_hmax8(select((float8)(0.0f), u2, here)),
+                            pf_hmax8(select((float8)(0.0f), disp2, here)), rebuild && i0 == 0u && here.s0 ? 1u : 0u,
+                            pf_hsum8u(select(none, pairs, here)),
+                            pf_hsum8u(select(none, one, here & ((bits & PF_FLAGGED_BIT) != 0u))),
+                            pf_hsum8u(select(none, one, here & ((bits & PF_OVERFLOW_BIT) != 0u))), n);
+  if (pf_any8(wall)) {
+    uint bs[8], ps[8];
+    int ws[8];
+    float fxs[8], fys[8], fzs[8];
+    vstore8(bits, 0, bs);
+    vstore8(pairs, 0, ps);
+    vstore8(wall, 0, ws);
+    vstore8(fx, 0, fxs);
+    vstore8(fy, 0, fys);
+    vstore8(fz, 0, fzs);
+    for (uint l = 0; l < 8u; ++l) {
+      if (ws[l] == 0) continue;
+      const uint i = i0 + l, rebuilt = rebuild && i == 0u ? 1u : 0u;
+      record = pf_partial_add(record, pf_integrate(i, xs[l], vs[l], (float4)(fxs[l], fys[l], fzs[l], 0.0f), bs[l],
+                                                   rebuilt, ps[l], X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
+                                                   XREF, XPRUNE, request, request_raise, n));
     }
-    X_out[i] = xo[l];
-    V_out[i] = vo[l];
-    if (sdf_dims.w != 0) C[i] = cls[l];
-    record = pf_partial_add(record, pf_record(kes[l], u2s[l], d2s[l], rebuilt, pairs, (bs[l] & PF_FLAGGED_BIT) ? 1u : 0u,
-                                              (bs[l] & PF_OVERFLOW_BIT) ? 1u : 0u, n));
   }
   return record;
 }
@@ -1483,15 +1543,18 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
 
 /* The whole update of one particle (see the top of the file), plus the
  * reductions in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
- * (nx, ny, nz, has_walls). Work-items: at least n (on CPU devices one in
- * eight takes a whole octet, pf_advance8), and a group for each
- * level-2 partial of the last step. L1_out / L2_out: this step's level-1 partials and the
- * last step's level-2 ones; L1_prev: the last step's level-1 partials
- * (g1_prev; 0: none); L2_prev: the level-2 partials of the step before
- * (g2_prev2; 0: none), whose record goes to history[slot_prev2]. On GPUs
- * the cells and lists are used here; on CPU devices pair_forces used them
- * and left the forces in F (force_groups buffers, force_stride apart) and
- * the list build's overflow bits in build_bits. */
+ * (nx, ny, nz, has_walls). Work-items: at least one a particle (GPUs)
+ * or one a level-1 record (CPU devices: an octet each, pf_advance8, then
+ * one a particle after the last octet), and a group for each level-2
+ * partial of the last step. L1_out / L2_out: this step's level-1
+ * partials and the last step's level-2 ones; L1_prev: the last step's
+ * level-1 partials (g1_prev; 0: none); L2_prev: the level-2 partials of
+ * the step before (g2_prev2; 0: none), whose record goes to
+ * history[slot_prev2]. On GPUs the cells and lists are used here; on CPU
+ * devices pair_forces used them and left the forces in F (force_groups
+ * buffers, force_stride apart; with PF_NEWTON buffer g is nonzero only
+ * for the particles in force_spans[g]) and the list build's overflow bits
+ * in build_bits. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global const float4* X, __global const float4* V, __global float4* X_out, __global float4* V_out,
     __global const uint* counts, __global const float* slots, const uint cell_base, const float4 cell_origin,
@@ -1501,7 +1564,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
     __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
     const uint request_clear, const uint force_rebuild, __global float4* F, const uint force_groups,
-    const uint force_stride, __global const uint* build_bits, __global const float4* XPRUNE) {
+    const uint force_stride, __global const uint* build_bits, __global const float4* XPRUNE,
+    __global const uint2* force_spans) {
 #if PF_GPU_FORM
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
@@ -1510,28 +1574,27 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (i == 0) request[request_clear] = 0u;
   float8 record = (float8)(0.0f);
 #if !PF_GPU_FORM
-  /* Whole octets of particles 8 to a work-item (the octet's other items
-   * idle), each with one level-1 record, then the rest one a work-item:
-   * pf_advance8, or with PF_ADVANCE8 0 (tests) the same one particle at a
-   * time. */
-  const uint n8 = n & ~7u, rebuild = force_rebuild || (request[request_read] & PF_REQUEST_REBUILD);
-  if (i < n8) {
-    if ((i & 7u) == 0u) {
+  /* Work-item t < n/8 takes the octet 8t..8t+7 (pf_advance8, or with
+   * PF_ADVANCE8 0, for the tests, the same one particle at a time), the
+   * next n % 8 items the particles after the last octet one each; every
+   * item writes level-1 record t. One item an octet: PoCL runs a group's
+   * items one after the other, and idle ones cost time too. */
+  const uint octets = n / 8u, n8 = octets * 8u;
+  const uint rebuild = force_rebuild || (request[request_read] & PF_REQUEST_REBUILD);
+  if (i < octets) {
 #if PF_ADVANCE8
-      record = pf_advance8(i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
-                           request_raise, rebuild, F, force_groups, force_stride, build_bits, n);
+    record = pf_advance8(8u * i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
+                         request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n);
 #else
-      for (uint l = 0; l < 8u; ++l)
-        record = pf_partial_add(record, pf_advance_one(i + l, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
-                                                       XREF, XPRUNE, request, request_raise, rebuild, F, force_groups,
-                                                       force_stride, build_bits, n));
+    for (uint l = 0; l < 8u; ++l)
+      record = pf_partial_add(record, pf_advance_one(8u * i + l, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags,
+                                                     C, XREF, XPRUNE, request, request_raise, rebuild, F, force_groups,
+                                                     force_stride, force_spans, build_bits, n));
 #endif
-      L1_out[i / 8u] = record;
-    }
-  } else if (i < n) {
-    L1_out[n8 / 8u + (i - n8)] = pf_advance_one(i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF,
-                                                XPRUNE, request, request_raise, rebuild, F, force_groups, force_stride,
-                                                build_bits, n);
+    L1_out[i] = record;
+  } else if (i < octets + (n - n8)) {
+    L1_out[i] = pf_advance_one(n8 + (i - octets), X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF,
+                               XPRUNE, request, request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n);
   } else if (i == 0u) {
     L1_out[0] = record; /* no particles: one empty record */
   }

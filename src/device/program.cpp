@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <fstream>
+#include <sstream>
 
 #include "pfill/embedded_kernels.hpp"
 
@@ -15,12 +17,25 @@ Program::Program(Device& device, const std::vector<std::string>& files,
                  const std::map<std::string, std::string>& defines, const std::string& options)
     : device_(&device) {
   for (const auto& [name, value] : defines) source_ += "#define " + name + " " + value + "\n";
+  // PFILL_KERNEL_DIR: read the kernel files from that folder instead of the
+  // embedded copies (developers' runs of another revision's kernels beside
+  // this one's, e.g. bench_variants "kernels=/tmp/old" "")
+  const char* kernel_dir = std::getenv("PFILL_KERNEL_DIR");
   for (const std::string& file : files) {
-    const char* text = nullptr;
-    try {
-      text = embedded_kernel_source(file);
-    } catch (const std::exception& e) {
-      throw Error(std::string(e.what()) + "; is kernels/" + file + " in the source tree?");
+    std::string text;
+    if (kernel_dir != nullptr && *kernel_dir != '\0') {
+      const std::string path = std::string(kernel_dir) + "/" + file;
+      std::ifstream in(path);
+      if (!in) throw Error("cannot read " + path + " (PFILL_KERNEL_DIR); unset it to use the built-in kernels");
+      std::ostringstream all;
+      all << in.rdbuf();
+      text = all.str();
+    } else {
+      try {
+        text = embedded_kernel_source(file);
+      } catch (const std::exception& e) {
+        throw Error(std::string(e.what()) + "; is kernels/" + file + " in the source tree?");
+      }
     }
     source_ += "#line 1 \"" + file + "\"\n";
     source_ += text;

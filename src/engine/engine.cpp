@@ -103,6 +103,9 @@ struct Engine::Impl {
   // CPU form: force_groups buffers of `capacity` forces (zero between
   // steps), and the list build's overflow bits for `advance`.
   cl::Buffer forces, build_bits;
+  // CPU form with Newton: per force buffer, the particles [first, end)
+  // whose forces pair_forces may have changed there (`advance` reads those)
+  cl::Buffer force_spans;
   // Cells (filled only on steps that rebuild the lists): count words and slots.
   cl_float4 cell_origin{}, cell_inv{};
   cl_int4 cell_dims{};
@@ -357,6 +360,10 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
              "clEnqueueFillBuffer", "pair forces");
     build_bits = device.make_buffer((gpu_form ? 1 : cap) * sizeof(cl_uint), "list build bits");
+    force_spans = device.make_buffer(std::max<size_t>(force_groups, 1) * sizeof(cl_uint2), "pair force spans");
+    check_cl(device.queue().enqueueFillBuffer(force_spans, cl_uint(0), 0,
+                                              std::max<size_t>(force_groups, 1) * sizeof(cl_uint2)),
+             "clEnqueueFillBuffer", "pair force spans");
     touched = device.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
     if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
     lists_valid = false;
@@ -451,7 +458,7 @@ struct Engine::Impl {
       k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
                        lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
                        cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows(), inner_lists, inner_counts,
-                       prune_origins, list_spans);
+                       prune_origins, list_spans, force_spans);
       run(k_pairs, pair_items());
     }
     const size_t h = params.history_capacity;
@@ -464,13 +471,15 @@ struct Engine::Impl {
                       history, cl_uint((steps + h - 2) % h), lists,
                       list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
                       cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), forces, cl_uint(force_groups),
-                      cl_uint(capacity), build_bits, prune_origins);
+                      cl_uint(capacity), build_bits, prune_origins, force_spans);
     };
     if (params.field_image)
       set_step_args(sdf_image);
     else
       set_step_args(sdf);
-    run(k_step, std::max<size_t>({n, level2_now * group_size, 1}));  // a group for each level-2 partial
+    // an item a particle (GPU form) or an octet (CPU form: level1_count),
+    // and a group for each level-2 partial
+    run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), level2_now * group_size, 1}));
     newcomers.clear();
     level2_pending = level2_now;
     level1_pending = level1_count(n);
