@@ -69,9 +69,9 @@
  * (GPUs): L1 holds one sum a work-group, made in local memory, and the
  * chunk and final sums are group sums too (two levels: PF_WG_ROOT items sum
  * PF_WG / PF_WG_ROOT records each, then one item sums theirs). Without it
- * (CPU devices): L1 holds a record for each whole octet of particles
- * (8 consecutive, the first at a multiple of 8), then one for each
- * particle after the last octet; chunk c is the serial
+ * (CPU devices): L1 holds a record for each octet of particles (8
+ * consecutive, the first at a multiple of 8, the last maybe partial);
+ * chunk c is the serial
  * sum of group c's first item, and work-item 0 sums the L2 partials: no barrier,
  * which PoCL pays for in loop overhead. finalize_history finishes the (at
  * most two) steps still in flight by the same sums.
@@ -114,9 +114,6 @@
 #define PF_FIX_MAX 1.0e6f
 #endif
 
-#ifndef PF_ADVANCE8
-#define PF_ADVANCE8 1
-#endif
 /* EngineParams::step_form: PF_GPU_FORM 0 (CPU devices) pairs 8 list
  * entries at a time as float8 vectors, with each list row contiguous.
  * PF_GPU_FORM 1 (GPUs) takes entries 4 at a time, one pair per work-item,
@@ -1310,18 +1307,18 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 #define PF_FIELD_SAMPLE pf_sdf_sample
 #endif
 
-/* |a|^2 of a's x, y, z by explicit fused multiply-adds, as pf_norm2_8:
- * pf_integrate and pf_advance8 then round alike, whatever the compiler
- * contracts, so a particle moves the same in an octet as alone (the
- * fill's results do not depend on which particles form octets). The
- * integration's other sums are explicit fma()s for the same reason. */
+/* |a|^2 of a's x, y, z by explicit fused multiply-adds, as pf_norm2_8,
+ * so that the GPU form's pf_integrate and the CPU form's pf_advance8
+ * round their shared steps alike whatever the compiler contracts (the
+ * integration's other sums are explicit fma()s too). */
 float pf_norm2(float4 a) { return fma(a.z, a.z, fma(a.y, a.y, a.x * a.x)); }
 float8 pf_norm2_8(float8 x, float8 y, float8 z) { return fma(z, z, fma(y, y, x * x)); }
 
 /* `advance` for particle i, from its state (xi, vi), the force on it and
  * its build bits: velocity Verlet with the displacement cap, the wall
  * (sampled only where the clearance bound runs out), the new state to
- * X_out and V_out, the list requests its drift raises. Returns its record. */
+ * X_out and V_out, the list requests its drift raises. Returns its record.
+ * The GPU form's; the CPU form's pf_advance8 does the same 8 at a time. */
 float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint rebuilt, uint pairs,
                     __global float4* X_out, __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims,
                     __global uint* flags, __global float* C, __global const float4* XREF,
@@ -1382,30 +1379,6 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
 }
 
 #if !PF_GPU_FORM
-/* `advance` for particle i alone (CPU form): its force from the force
- * buffers (w: overlapping pairs; zeroed for the next step), then
- * pf_integrate. Returns its record. */
-float8 pf_advance_one(uint i, __global const float4* X, __global const float4* V, __global float4* X_out,
-                      __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
-                      __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
-                      __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
-                      uint force_stride, __global const uint2* force_spans, __global const uint* build_bits,
-                      uint n) {
-  float4 force = (float4)(0.0f);
-  for (uint g = 0; g < force_groups; ++g) {
-#if PF_NEWTON
-    const uint2 span = force_spans[g];
-    if (i < span.x || i >= span.y) continue; /* zero there: pair_forces wrote elsewhere */
-#endif
-    force += F[(size_t)g * force_stride + i];
-    F[(size_t)g * force_stride + i] = (float4)(0.0f);
-  }
-  const uint pairs = (uint)force.w;
-  force.w = 0.0f;
-  return pf_integrate(i, X[i], V[i], force, rebuild ? build_bits[i] : 0u, rebuild && i == 0u ? 1u : 0u, pairs, X_out,
-                      V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request, request_raise, n);
-}
-
 /* Horizontal sum and maximum of 8 lanes (fixed pairwise order). */
 float pf_hsum8(float8 a) {
   const float4 b = a.lo + a.hi;
@@ -1434,18 +1407,141 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
   return pf_norm2_8(x - a, y - b, z - c) > limit2;
 }
 
-/* `advance` for the 8 particles i0..i0+7 as float8 lanes (CPU form):
- * pf_integrate's arithmetic on all 8 at once, the lanes whose clearance
- * bound ran out (the wall is near) handed to pf_integrate itself.
- * Returns the octet's record: the other lanes' by vector sums and maxima
- * (a loop over the lanes cost a quarter of `advance`), then the wall
- * lanes' added. PoCL runs `advance`'s work-items one after the other,
- * scalar; this takes 15% off `advance` at N = 1e5. */
+#ifndef PF_FIELD_IMAGE
+/* The field's values at 8 grid indices. */
+float8 pf_field_gather8(__global const float* f, int8 at) {
+#if defined(PF_X86_AVX512)
+  return __builtin_ia32_gather3siv8sf((float8)(0.0f), (const void*)(size_t)f, at, (uchar)0xff, 4);
+#else
+  int a[8];
+  float v[8];
+  vstore8(at, 0, a);
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) v[l] = f[a[l]];
+  return vload8(0, v);
+#endif
+}
+#endif
+
+/* The wall field (value, and its gradient in g) at 8 points as float8
+ * lanes: physics.cl pf_sdf_sample and pf_trilinear, same formulas, the
+ * corners read by gathers. With PF_FIELD_IMAGE each lane samples the
+ * image on its own. */
+float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, float8 py, float8 pz, float8* g) {
+#ifdef PF_FIELD_IMAGE
+  float x[8], y[8], z[8], v[8], gx[8], gy[8], gz[8];
+  vstore8(px, 0, x);
+  vstore8(py, 0, y);
+  vstore8(pz, 0, z);
+  for (uint l = 0; l < 8u; ++l) {
+    float gl[3];
+    v[l] = pf_sdf_sample_image(f, dims.x, dims.y, dims.z, origin.x, origin.y, origin.z, origin.w, x[l], y[l], z[l], gl);
+    gx[l] = gl[0];
+    gy[l] = gl[1];
+    gz[l] = gl[2];
+  }
+  g[0] = vload8(0, gx);
+  g[1] = vload8(0, gy);
+  g[2] = vload8(0, gz);
+  return vload8(0, v);
+#else
+  const float inv_spacing = origin.w;
+  const float8 gx = fmin(fmax((px - origin.x) * inv_spacing, 0.0f), (float)(dims.x - 1));
+  const float8 gy = fmin(fmax((py - origin.y) * inv_spacing, 0.0f), (float)(dims.y - 1));
+  const float8 gz = fmin(fmax((pz - origin.z) * inv_spacing, 0.0f), (float)(dims.z - 1));
+  const int8 i = min(convert_int8(floor(gx)), dims.x - 2), j = min(convert_int8(floor(gy)), dims.y - 2),
+             k = min(convert_int8(floor(gz)), dims.z - 2);
+  const float8 tx = gx - convert_float8(i), ty = gy - convert_float8(j), tz = gz - convert_float8(k);
+  const int sy = dims.x, sz = dims.x * dims.y;
+  const int8 base = i + dims.x * (j + dims.y * k);
+  const float8 v000 = pf_field_gather8(f, base), v100 = pf_field_gather8(f, base + 1);
+  const float8 v010 = pf_field_gather8(f, base + sy), v110 = pf_field_gather8(f, base + (sy + 1));
+  const float8 v001 = pf_field_gather8(f, base + sz), v101 = pf_field_gather8(f, base + (sz + 1));
+  const float8 v011 = pf_field_gather8(f, base + (sy + sz)), v111 = pf_field_gather8(f, base + (sy + sz + 1));
+  const float8 a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
+  const float8 a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
+  const float8 b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
+  const float8 dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
+  const float8 dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
+  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
+  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
+  g[2] = (b1 - b0) * inv_spacing;
+  return b0 + (b1 - b0) * tz;
+#endif
+}
+
+/* Eight lanes' new state: position p, velocity u, wall clearance, and
+ * which lanes the wall found outside. */
+typedef struct {
+  float8 px, py, pz, ux, uy, uz, clearance;
+  int8 flagged;
+} pf_lanes8;
+
+/* pf_integrate's wall for the `near` lanes of s (their clearance bound ran
+ * out), 8 at a time: the field sampled at the new positions, the lanes
+ * found outside flagged, a sphere closer to the surface than its radius r
+ * pushed back along the gradient and its outward normal velocity
+ * reflected; the near lanes' new clearance. (State by value: pointers
+ * into the caller's vectors would keep them in memory.) */
+pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims) {
+  float8 g[3];
+  float8 phi = pf_field_sample8(sdf, sdf_dims, sdf_origin, s.px, s.py, s.pz, g);
+  const float8 grid_x = (s.px - sdf_origin.x) * sdf_origin.w, grid_y = (s.py - sdf_origin.y) * sdf_origin.w,
+               grid_z = (s.pz - sdf_origin.z) * sdf_origin.w;
+  const int8 outside_box = grid_x < 0.0f | grid_y < 0.0f | grid_z < 0.0f | grid_x > (float)(sdf_dims.x - 1) |
+                           grid_y > (float)(sdf_dims.y - 1) | grid_z > (float)(sdf_dims.z - 1);
+  s.flagged = near & ((phi > 0.0f) | outside_box);
+  const int8 touching = near & (phi > -r);
+  if (pf_any8(touching)) {
+    int8 pushing = touching;
+    for (int it = 0; it < PF_WALL_ITERATIONS; ++it) {
+      pushing &= phi > -r;
+      const float8 gl = sqrt(pf_norm2_8(g[0], g[1], g[2]));
+      pushing &= gl > 1e-20f;
+      if (!pf_any8(pushing)) break;
+      const float8 push = (phi + r) / gl;
+      s.px = select(s.px, s.px - push * g[0], pushing);
+      s.py = select(s.py, s.py - push * g[1], pushing);
+      s.pz = select(s.pz, s.pz - push * g[2], pushing);
+      float8 h[3];
+      const float8 again = pf_field_sample8(sdf, sdf_dims, sdf_origin, s.px, s.py, s.pz, h);
+      phi = select(phi, again, pushing);
+      g[0] = select(g[0], h[0], pushing);
+      g[1] = select(g[1], h[1], pushing);
+      g[2] = select(g[2], h[2], pushing);
+    }
+    const float8 gl = sqrt(pf_norm2_8(g[0], g[1], g[2]));
+    const int8 turn = touching & (gl > 1e-20f);
+    const float8 safe_gl = select((float8)(1.0f), gl, turn);
+    const float8 nx = g[0] / safe_gl, ny = g[1] / safe_gl, nz = g[2] / safe_gl;
+    const float8 un = s.ux * nx + s.uy * ny + s.uz * nz;
+    /* physics.cl pf_wall_velocity_change, 8 lanes */
+    const float8 dv = select((float8)(0.0f), -(1.0f + PF_WALL_RESTITUTION) * un, turn & (un > 0.0f));
+    s.ux += dv * nx;
+    s.uy += dv * ny;
+    s.uz += dv * nz;
+  }
+  s.clearance = select(s.clearance, select(fmax(-phi - r, 0.0f), (float8)(0.0f), outside_box), near);
+  return s;
+}
+
+/* `advance` for the particles i0..i0+7 below n as float8 lanes (the CPU
+ * form's octets; the last may be partial, its lanes past n computed on a
+ * copy of the last particle and not stored): the force buffers' sums
+ * (w: overlapping pairs; zeroed for the next step), then pf_integrate's
+ * physics on all lanes at once, the wall (pf_wall8) only where a lane's
+ * clearance bound ran out. Every lane does the same operations whatever
+ * its neighbours, so which particles share an octet changes no result.
+ * Returns the octet's record, by vector sums and maxima (a loop over the
+ * lanes cost a quarter of `advance`). PoCL runs `advance`'s work-items one
+ * after the other, scalar; octets take 15% off `advance` at N = 1e5. */
 float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, __global float4* X_out,
                    __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims, __global uint* flags,
                    __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
                    __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
                    uint force_stride, __global const uint2* force_spans, __global const uint* build_bits, uint n) {
+  const uint live_count = min(8u, n - i0);
+  const int8 live = (int8)(0, 1, 2, 3, 4, 5, 6, 7) < (int8)((int)live_count);
   float4 xs[8], vs[8], t[8];
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) {
@@ -1455,7 +1551,8 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
   float8 x, y, z, r, vx, vy, vz, im;
   pf_transpose8(xs, &x, &y, &z, &r);
   pf_transpose8(vs, &vx, &vy, &vz, &im);
-  /* the force buffers' sums (w: overlapping pairs), zeroed for the next step */
+  /* the force buffers' sums (w: overlapping pairs), zeroed for the next
+   * step (past n: zero, and cleared again; capacities are multiples of 8) */
   float8 fx = (float8)(0.0f), fy = fx, fz = fx, fw = fx;
   for (uint g = 0; g < force_groups; ++g) {
 #if PF_NEWTON
@@ -1474,70 +1571,64 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
 #pragma unroll
     for (uint l = 0; l < 8u; ++l) Fg[l] = (float4)(0.0f);
   }
-  const uint8 bits = rebuild ? vload8(0, build_bits + i0) : (uint8)(0u);
+  uint8 bits = rebuild ? vload8(0, build_bits + i0) : (uint8)(0u);
   const float8 k = PF_DT * im;
-  float8 ux = fma(k, fx, vx) * PF_DAMP, uy = fma(k, fy, vy) * PF_DAMP, uz = fma(k, fz, vz) * PF_DAMP;
-  const float8 speed = sqrt(pf_norm2_8(ux, uy, uz));
+  pf_lanes8 s;
+  s.ux = fma(k, fx, vx) * PF_DAMP;
+  s.uy = fma(k, fy, vy) * PF_DAMP;
+  s.uz = fma(k, fz, vz) * PF_DAMP;
+  const float8 speed = sqrt(pf_norm2_8(s.ux, s.uy, s.uz));
   const int8 fast = speed > PF_VMAX; /* displacement cap: at most PF_VMAX dt a step */
   const float8 scale = select((float8)(1.0f), PF_VMAX / speed, fast);
-  ux *= scale;
-  uy *= scale;
-  uz *= scale;
-  const float8 nx = fma(PF_DT, ux, x), ny = fma(PF_DT, uy, y), nz = fma(PF_DT, uz, z);
-  int8 wall = (int8)(0);
-  float8 clearance = (float8)(0.0f);
+  s.ux *= scale;
+  s.uy *= scale;
+  s.uz *= scale;
+  s.px = fma(PF_DT, s.ux, x);
+  s.py = fma(PF_DT, s.uy, y);
+  s.pz = fma(PF_DT, s.uz, z);
   if (sdf_dims.w != 0) {
-    clearance = fma(-2.0f * PF_DT, select(speed, (float8)(PF_VMAX), fast), vload8(0, C + i0));
-    wall = clearance <= 0.0f;
+    const float8 old_clearance = vload8(0, C + i0);
+    s.clearance = fma(-2.0f * PF_DT, select(speed, (float8)(PF_VMAX), fast), old_clearance);
+    const int8 near = live & (s.clearance <= 0.0f);
+    if (pf_any8(near)) {
+      s = pf_wall8(s, near, r, sdf, sdf_origin, sdf_dims);
+      if (pf_any8(s.flagged)) {
+        bits |= select((uint8)(0u), (uint8)(PF_FLAGGED_BIT), s.flagged);
+        int fl[8];
+        vstore8(s.flagged, 0, fl);
+        for (uint l = 0; l < 8u; ++l)
+          if (fl[l] != 0) flags[i0 + l] = 1u;
+      }
+    }
+    vstore8(select(old_clearance, s.clearance, live), 0, C + i0);
   }
-  /* the list requests the lanes' drift raises (pf_integrate raises its own) */
-  if (pf_any8(~wall & pf_drifted8(XREF + i0, nx, ny, nz, PF_HALF_SKIN2)))
-    atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
-#if PF_INNER
-  if (pf_any8(~wall & pf_drifted8(XPRUNE + i0, nx, ny, nz, PF_HALF_INNER2)))
-    atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
-#endif
-  const float8 u2 = pf_norm2_8(ux, uy, uz);
-  const float8 ke = 0.5f * u2 / im, disp2 = pf_norm2_8(nx - x, ny - y, nz - z);
   float4 xo[8], vo[8];
-  pf_untranspose8(nx, ny, nz, r, xo);
-  pf_untranspose8(ux, uy, uz, im, vo);
-  /* every lane's new state stored; the wall lanes' is overwritten by
-   * pf_integrate below, which reads their old clearance (kept in C) */
+  pf_untranspose8(s.px, s.py, s.pz, r, xo);
+  pf_untranspose8(s.ux, s.uy, s.uz, im, vo);
+  /* (unrolled with constant lanes: a loop to live_count would keep xo and vo in memory) */
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) {
-    X_out[i0 + l] = xo[l];
-    V_out[i0 + l] = vo[l];
-  }
-  if (sdf_dims.w != 0) vstore8(select(clearance, vload8(0, C + i0), wall), 0, C + i0);
-  /* the other lanes' records as one, by vector sums and maxima */
-  const int8 here = ~wall;
-  const uint8 pairs = convert_uint8(fw);
-  const uint8 one = (uint8)(1u), none = (uint8)(0u);
-  float8 record = pf_record(pf_hsum8(select((float8)(0.0f), ke, here)), pf_hmax8(select((float8)(0.0f), u2, here)),
-                            pf_hmax8(select((float8)(0.0f), disp2, here)), rebuild && i0 == 0u && here.s0 ? 1u : 0u,
-                            pf_hsum8u(select(none, pairs, here)),
-                            pf_hsum8u(select(none, one, here & ((bits & PF_FLAGGED_BIT) != 0u))),
-                            pf_hsum8u(select(none, one, here & ((bits & PF_OVERFLOW_BIT) != 0u))), n);
-  if (pf_any8(wall)) {
-    uint bs[8], ps[8];
-    int ws[8];
-    float fxs[8], fys[8], fzs[8];
-    vstore8(bits, 0, bs);
-    vstore8(pairs, 0, ps);
-    vstore8(wall, 0, ws);
-    vstore8(fx, 0, fxs);
-    vstore8(fy, 0, fys);
-    vstore8(fz, 0, fzs);
-    for (uint l = 0; l < 8u; ++l) {
-      if (ws[l] == 0) continue;
-      const uint i = i0 + l, rebuilt = rebuild && i == 0u ? 1u : 0u;
-      record = pf_partial_add(record, pf_integrate(i, xs[l], vs[l], (float4)(fxs[l], fys[l], fzs[l], 0.0f), bs[l],
-                                                   rebuilt, ps[l], X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
-                                                   XREF, XPRUNE, request, request_raise, n));
+    if (l < live_count) {
+      X_out[i0 + l] = xo[l];
+      V_out[i0 + l] = vo[l];
     }
   }
-  return record;
+  /* the list requests the lanes' drift raises */
+  if (pf_any8(live & pf_drifted8(XREF + i0, s.px, s.py, s.pz, PF_HALF_SKIN2)))
+    atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
+#if PF_INNER
+  if (pf_any8(live & pf_drifted8(XPRUNE + i0, s.px, s.py, s.pz, PF_HALF_INNER2)))
+    atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
+#endif
+  /* the record: sums and maxima over the live lanes */
+  const float8 u2 = pf_norm2_8(s.ux, s.uy, s.uz);
+  const float8 ke = 0.5f * u2 / im, disp2 = pf_norm2_8(s.px - x, s.py - y, s.pz - z);
+  const uint8 one = (uint8)(1u), none = (uint8)(0u);
+  return pf_record(pf_hsum8(select((float8)(0.0f), ke, live)), pf_hmax8(select((float8)(0.0f), u2, live)),
+                   pf_hmax8(select((float8)(0.0f), disp2, live)), rebuild && i0 == 0u ? 1u : 0u,
+                   pf_hsum8u(select(none, convert_uint8(fw), live)),
+                   pf_hsum8u(select(none, one, live & ((bits & PF_FLAGGED_BIT) != 0u))),
+                   pf_hsum8u(select(none, one, live & ((bits & PF_OVERFLOW_BIT) != 0u))), n);
 }
 #endif
 
@@ -1574,27 +1665,13 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (i == 0) request[request_clear] = 0u;
   float8 record = (float8)(0.0f);
 #if !PF_GPU_FORM
-  /* Work-item t < n/8 takes the octet 8t..8t+7 (pf_advance8, or with
-   * PF_ADVANCE8 0, for the tests, the same one particle at a time), the
-   * next n % 8 items the particles after the last octet one each; every
-   * item writes level-1 record t. One item an octet: PoCL runs a group's
-   * items one after the other, and idle ones cost time too. */
-  const uint octets = n / 8u, n8 = octets * 8u;
+  /* Work-item t takes the octet 8t..8t+7 (the last may be partial) and
+   * writes level-1 record t. One item an octet: PoCL runs a group's items
+   * one after the other, and idle ones cost time too. */
   const uint rebuild = force_rebuild || (request[request_read] & PF_REQUEST_REBUILD);
-  if (i < octets) {
-#if PF_ADVANCE8
-    record = pf_advance8(8u * i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
-                         request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n);
-#else
-    for (uint l = 0; l < 8u; ++l)
-      record = pf_partial_add(record, pf_advance_one(8u * i + l, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags,
-                                                     C, XREF, XPRUNE, request, request_raise, rebuild, F, force_groups,
-                                                     force_stride, force_spans, build_bits, n));
-#endif
-    L1_out[i] = record;
-  } else if (i < octets + (n - n8)) {
-    L1_out[i] = pf_advance_one(n8 + (i - octets), X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF,
-                               XPRUNE, request, request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n);
+  if (i < (n + 7u) / 8u) {
+    L1_out[i] = pf_advance8(8u * i, X, V, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
+                            request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n);
   } else if (i == 0u) {
     L1_out[0] = record; /* no particles: one empty record */
   }

@@ -45,7 +45,7 @@ Program::Program(Device& device, const std::vector<std::string>& files,
   program_ = cl::Program(device.context(), source_, false, &status);
   check_cl(status, "clCreateProgramWithSource");
   // PFILL_CL_OPTIONS: extra build options for every program (developers'
-  // runs of kernel variants side by side, e.g. "-DPF_ADVANCE8=0";
+  // runs of kernel variants side by side, e.g. "-DPF_X=0";
   // bench/bench_variants)
   std::string all_options = options;
   if (const char* extra = std::getenv("PFILL_CL_OPTIONS")) all_options += std::string(all_options.empty() ? "" : " ") + extra;

@@ -275,10 +275,10 @@ struct Engine::Impl {
 
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
   // Level-1 partials of a step of n particles: one a work-group (GPU
-  // form), or one an octet of particles and one a particle after the last
-  // whole octet (engine.cl advance).
+  // form), or one an octet of particles, the last maybe partial (engine.cl
+  // advance).
   size_t level1_count(size_t count) const {
-    return std::max<size_t>(gpu_form ? groups_for(count) : count / 8 + count % 8, 1);
+    return std::max<size_t>(gpu_form ? groups_for(count) : (count + 7) / 8, 1);
   }
 
   // New buffers may reuse a freed buffer's handle: set every argument again.
@@ -368,8 +368,7 @@ struct Engine::Impl {
     if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
     lists_valid = false;
     forget_kernel_args();
-    // (the CPU form's count is not monotonic in n: up to cap / 8 + 7)
-    const size_t g1 = (gpu_form ? level1_count(cap) : cap / 8 + 8) + 1, g2 = groups_for(g1) + 1;
+    const size_t g1 = level1_count(cap) + 1, g2 = groups_for(g1) + 1;
     for (auto& b : level1) b = device.make_buffer(g1 * kRecord * sizeof(float), "step partials (level 1)");
     for (auto& b : level2) b = device.make_buffer(g2 * kRecord * sizeof(float), "step partials (level 2)");
   }
