@@ -1423,8 +1423,10 @@ float8 pf_field_gather8(__global const float* f, int8 at) {
 }
 #endif
 
+PF_DEFINE_TRILINEAR(pf_trilinear8, float8)
+
 /* The wall field (value, and its gradient in g) at 8 points as float8
- * lanes: physics.cl pf_sdf_sample and pf_trilinear, same formulas, the
+ * lanes: physics.cl pf_sdf_sample and pf_trilinear (as pf_trilinear8), the
  * corners read by gathers. With PF_FIELD_IMAGE each lane samples the
  * image on its own. */
 float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, float8 py, float8 pz, float8* g) {
@@ -1458,15 +1460,7 @@ float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, flo
   const float8 v010 = pf_field_gather8(f, base + sy), v110 = pf_field_gather8(f, base + (sy + 1));
   const float8 v001 = pf_field_gather8(f, base + sz), v101 = pf_field_gather8(f, base + (sz + 1));
   const float8 v011 = pf_field_gather8(f, base + (sy + sz)), v111 = pf_field_gather8(f, base + (sy + sz + 1));
-  const float8 a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
-  const float8 a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
-  const float8 b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
-  const float8 dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
-  const float8 dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
-  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
-  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
-  g[2] = (b1 - b0) * inv_spacing;
-  return b0 + (b1 - b0) * tz;
+  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, (float8)(inv_spacing), g);
 #endif
 }
 

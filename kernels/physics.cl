@@ -75,20 +75,23 @@ PF_FN PF_REAL pf_wall_velocity_change(PF_REAL un, PF_REAL wall_restitution) {
 /* Trilinear interpolation of one grid cell's corner values vIJK (I, J, K
  * the offsets along x, y, z) at fractions (tx, ty, tz), and in g[0..2] the
  * exact gradient of the interpolant. Shared by every way of reading the
- * corners (buffer, image), so all give the same value and gradient. */
-PF_FN PF_REAL pf_trilinear(PF_REAL v000, PF_REAL v100, PF_REAL v010, PF_REAL v110, PF_REAL v001, PF_REAL v101,
-                           PF_REAL v011, PF_REAL v111, PF_REAL tx, PF_REAL ty, PF_REAL tz, PF_REAL inv_spacing,
-                           PF_REAL* g) {
-  const PF_REAL a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;
-  const PF_REAL a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;
-  const PF_REAL b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;
-  const PF_REAL dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;
-  const PF_REAL dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;
-  g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;
-  g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;
-  g[2] = (b1 - b0) * inv_spacing;
-  return b0 + (b1 - b0) * tz;
-}
+ * corners (buffer, image), so all give the same value and gradient; as a
+ * definition over the value type T, so that engine.cl's 8-lane sample
+ * (T = float8) has the same formula too. */
+#define PF_DEFINE_TRILINEAR(NAME, T)                                                                      \
+  PF_FN T NAME(T v000, T v100, T v010, T v110, T v001, T v101, T v011, T v111, T tx, T ty, T tz,          \
+               T inv_spacing, T* g) {                                                                     \
+    const T a00 = v000 + (v100 - v000) * tx, a10 = v010 + (v110 - v010) * tx;                             \
+    const T a01 = v001 + (v101 - v001) * tx, a11 = v011 + (v111 - v011) * tx;                             \
+    const T b0 = a00 + (a10 - a00) * ty, b1 = a01 + (a11 - a01) * ty;                                     \
+    const T dx0 = (v100 - v000) + ((v110 - v010) - (v100 - v000)) * ty;                                   \
+    const T dx1 = (v101 - v001) + ((v111 - v011) - (v101 - v001)) * ty;                                   \
+    g[0] = (dx0 + (dx1 - dx0) * tz) * inv_spacing;                                                        \
+    g[1] = ((a10 - a00) + ((a11 - a01) - (a10 - a00)) * tz) * inv_spacing;                                \
+    g[2] = (b1 - b0) * inv_spacing;                                                                       \
+    return b0 + (b1 - b0) * tz;                                                                           \
+  }
+PF_DEFINE_TRILINEAR(pf_trilinear, PF_REAL)
 
 /* Trilinear sample of the signed distance grid (values[i + nx (j + ny k)] at
  * origin + spacing (i, j, k); negative inside) at point p, and in g[0..2] the
