@@ -1056,8 +1056,8 @@ void pf_gather8_private(__global const float4* X, const uint* idx, float8* x, fl
 
 /* The forces of the first `valid` (1..8) queued pairs, added to F (the
  * physics of pf_row_forces: pf_potential8 and pf_dashpots8). */
-__attribute__((always_inline)) void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V, __global float4* F,
-                                                   uint8* jlo, uint8* jhi) {
+__attribute__((always_inline)) void pf_queue_pairs8(pf_queue* q, uint valid, __global const float4* V,
+                                                   __global float4* F, uint8* jlo, uint8* jhi) {
   const int8 ok = (int8)(0, 1, 2, 3, 4, 5, 6, 7) < (int8)((int)valid);
   const uint8 ii = vload8(0, q->i), jj = vload8(0, q->j);
   float8 dx = vload8(0, q->dx), dy = vload8(0, q->dy), dz = vload8(0, q->dz);
@@ -1089,8 +1089,9 @@ __attribute__((always_inline)) void pf_queue_pairs8(pf_queue* q, uint valid, __g
 /* Particle i's list entries within reach, appended to the queue; each
  * full 8 are computed at once. This and pf_queue_pairs8 are inlined: as
  * calls they cost 5% and 4% more (repulsive, N = 1e5). */
-__attribute__((always_inline)) void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
-                   __global const float4* V, __global float4* F, uint8* jlo, uint8* jhi) {
+__attribute__((always_inline)) void pf_queue_push(pf_queue* q, uint i, float4 xi, __global const uint* row,
+                                                 uint count, __global const float4* X, __global const float4* V,
+                                                 __global float4* F, uint8* jlo, uint8* jhi) {
   for (uint k = 0; k < count; k += 8u) {
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
     float8 dx, dy, dz, rs;
@@ -1314,6 +1315,7 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 float pf_norm2(float4 a) { return fma(a.z, a.z, fma(a.y, a.y, a.x * a.x)); }
 float8 pf_norm2_8(float8 x, float8 y, float8 z) { return fma(z, z, fma(y, y, x * x)); }
 
+#if PF_GPU_FORM
 /* `advance` for particle i, from its state (xi, vi), the force on it and
  * its build bits: velocity Verlet with the displacement cap, the wall
  * (sampled only where the clearance bound runs out), the new state to
@@ -1321,8 +1323,8 @@ float8 pf_norm2_8(float8 x, float8 y, float8 z) { return fma(z, z, fma(y, y, x *
  * The GPU form's; the CPU form's pf_advance8 does the same 8 at a time. */
 float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint rebuilt, uint pairs,
                     __global float4* X_out, __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims,
-                    __global uint* flags, __global float* C, __global const float4* XREF,
-                    __global const float4* XPRUNE, __global uint* request, uint request_raise, uint n) {
+                    __global uint* flags, __global float* C, __global const float4* XREF, __global uint* request,
+                    uint request_raise, uint n) {
   const float ri = xi.w, inv_mi = vi.w;
   const float k = PF_DT * inv_mi;
   float4 u = (float4)(fma(k, force.x, vi.x), fma(k, force.y, vi.y), fma(k, force.z, vi.z), 0.0f) * PF_DAMP;
@@ -1370,15 +1372,11 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
   X_out[i] = xn;
   V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
   if (pf_norm2(xn - XREF[i]) > PF_HALF_SKIN2) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
-#if !PF_GPU_FORM && PF_INNER
-  if (pf_norm2(xn - XPRUNE[i]) > PF_HALF_INNER2) atomic_or(&request[request_raise], PF_REQUEST_PRUNE);
-#endif
   const float u2 = pf_norm2(u);
   return pf_record(0.5f * u2 / inv_mi, u2, pf_norm2(xn - xi), rebuilt, pairs, (bits & PF_FLAGGED_BIT) ? 1u : 0u,
                    (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
 }
-
-#if !PF_GPU_FORM
+#else
 /* Horizontal sum and maximum of 8 lanes (fixed pairwise order). */
 float pf_hsum8(float8 a) {
   const float4 b = a.lo + a.hi;
@@ -1520,8 +1518,9 @@ pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sd
 }
 
 /* `advance` for the particles i0..i0+7 below n as float8 lanes (the CPU
- * form's octets; the last may be partial, its lanes past n computed on a
- * copy of the last particle and not stored): the force buffers' sums
+ * form's octets; the last may be partial: its lanes past n compute on
+ * whatever lies there, within the buffers' capacity, a multiple of 8, and
+ * are neither stored nor counted): the force buffers' sums
  * (w: overlapping pairs; zeroed for the next step), then pf_integrate's
  * physics on all lanes at once, the wall (pf_wall8) only where a lane's
  * clearance bound ran out. Every lane does the same operations whatever
@@ -1629,9 +1628,8 @@ float8 pf_advance8(uint i0, __global const float4* X, __global const float4* V, 
 /* The whole update of one particle (see the top of the file), plus the
  * reductions in flight. sdf_origin = (origin, 1/spacing), sdf_dims =
  * (nx, ny, nz, has_walls). Work-items: at least one a particle (GPUs)
- * or one a level-1 record (CPU devices: an octet each, pf_advance8, then
- * one a particle after the last octet), and a group for each level-2
- * partial of the last step. L1_out / L2_out: this step's level-1
+ * or one an octet of particles (CPU devices, pf_advance8, the last octet
+ * maybe partial), and a group for each level-2 partial of the last step. L1_out / L2_out: this step's level-1
  * partials and the last step's level-2 ones; L1_prev: the last step's
  * level-1 partials (g1_prev; 0: none); L2_prev: the level-2 partials of
  * the step before (g2_prev2; 0: none), whose record goes to
@@ -1741,7 +1739,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     }
     const float4 force = (float4)((float)fx, (float)fy, (float)fz, 0.0f) * (1.0f / PF_FIX_SCALE);
     record = pf_integrate(i, xi, vi, force, bits, rebuilt, pairs, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
-                          XREF, XPRUNE, request, request_raise, n);
+                          XREF, request, request_raise, n);
   }
 #endif
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */

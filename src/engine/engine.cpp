@@ -293,8 +293,8 @@ struct Engine::Impl {
     if (want <= capacity) return;
     size_t cap = std::max<size_t>(capacity, 64);
     while (cap < want) cap *= 2;
-    // CPU list rows hold byte offsets (16 j: see PF_ENTRY in engine.cl).
-    // (list entries are byte offsets, 16 j, which the AVX-512 gathers take as signed 32-bit)
+    // CPU list rows hold byte offsets (16 j: see PF_ENTRY in engine.cl),
+    // which the AVX-512 gathers take as signed 32-bit.
     if (!gpu_form && cap > (size_t(1) << 27))
       throw Error("engine: " + std::to_string(want) + " particles are more than the CPU form holds (2^27); use a larger radius");
     reduce_pending();  // the record buffers are reallocated below
@@ -360,10 +360,10 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
              "clEnqueueFillBuffer", "pair forces");
     build_bits = device.make_buffer((gpu_form ? 1 : cap) * sizeof(cl_uint), "list build bits");
-    force_spans = device.make_buffer(std::max<size_t>(force_groups, 1) * sizeof(cl_uint2), "pair force spans");
-    check_cl(device.queue().enqueueFillBuffer(force_spans, cl_uint(0), 0,
-                                              std::max<size_t>(force_groups, 1) * sizeof(cl_uint2)),
-             "clEnqueueFillBuffer", "pair force spans");
+    const size_t span_bytes = std::max<size_t>(force_groups, 1) * sizeof(cl_uint2);
+    force_spans = device.make_buffer(span_bytes, "pair force spans");
+    check_cl(device.queue().enqueueFillBuffer(force_spans, cl_uint(0), 0, span_bytes), "clEnqueueFillBuffer",
+             "pair force spans");
     touched = device.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
     if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
     lists_valid = false;
