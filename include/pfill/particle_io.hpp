@@ -1,6 +1,11 @@
 /// @file particle_io.hpp
-/// @brief Particle files: writers for PLY, GLB, CSV and VTK PolyData (.vtp),
-/// readers for PLY and CSV, and the numbered frame sequence of a fill.
+/// @brief Particle files: writers for PLY, GLB, CSV, VTK PolyData (.vtp),
+/// LAMMPS data (.data) and Yade text (.xyzr), readers for PLY and CSV, and
+/// the numbered frame sequence of a fill.
+///
+/// Every format carries each particle's id (ParticleSet::id: stable through
+/// a fill, so frames can be matched particle by particle) and, when asked
+/// and the set has them, its velocity.
 ///
 /// Every writer is atomic (see atomic_file.hpp): on any error the target is
 /// left as it was and pfill::Error names the path and the reason. The format
@@ -15,17 +20,32 @@
 
 namespace pfill {
 
-enum class ParticleFormat { Ply, Glb, Csv, Vtp };
+enum class ParticleFormat { Ply, Glb, Csv, Vtp, LammpsData, Xyzr };
 
-/// The format of `path` from its extension (.ply .glb .csv .vtp); throws
+/// The format of `path` from its extension (.ply .glb .csv .vtp .data .xyzr); throws
 /// pfill::Error listing the supported extensions otherwise.
 ParticleFormat particle_format_from_path(const std::filesystem::path& path);
+
+/// How PLY and CSV name their attributes.
+enum class AttributeNames {
+  Pfill,   ///< radius, red green blue (PLY uchar; CSV r,g,b 0..255), vx vy vz, id
+  Houdini  ///< pscale, Cd.r Cd.g Cd.b (floats 0..1, sRGB), v.x v.y v.z, id
+};
+
+/// "pfill" or "houdini"; throws pfill::Error naming both otherwise.
+AttributeNames parse_attribute_names(const std::string& text);
 
 struct ParticleWriteOptions {
   bool velocities = true;   ///< write velocities when the set has them
   bool spheres = false;     ///< GLB: add an instanced low-poly sphere per particle
   int sphere_subdivisions = 1;  ///< GLB spheres: icosphere level (1: 80 triangles)
   bool vtp_binary = true;   ///< VTP: appended raw binary (false: ascii)
+  AttributeNames names = AttributeNames::Pfill;  ///< PLY and CSV attribute names
+  /// LAMMPS data: the simulation box before its margin (e.g. the mesh's
+  /// bounds); empty: the particles' bounds. The box is grown by a margin of
+  /// 5% of its largest side (at least the largest radius) on every side.
+  Box3 box;
+  double density = 1.0;     ///< LAMMPS data: every particle's density (mass / volume)
 };
 
 /// Writes `particles` in the format named by the extension of `path`.
@@ -33,13 +53,16 @@ void write_particles(const ParticleSet& particles, const std::filesystem::path& 
                      const ParticleWriteOptions& options = {});
 
 /// Binary little-endian PLY: element vertex with float x y z radius, uchar
-/// red green blue (with colours), float vx vy vz (with velocities).
+/// red green blue (with colours), float vx vy vz (with velocities), uint id.
+/// Houdini names: pscale, float Cd.r Cd.g Cd.b (0..1), v.x v.y v.z, id.
 void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
                const ParticleWriteOptions& options = {});
 
 /// glTF binary. Node "particles": one POINTS primitive with POSITION (min/max
 /// set), COLOR_0 (linear FLOAT VEC3) with colours, and the radius as the
-/// custom attribute _RADIUS (SCALAR FLOAT). With options.spheres, also node
+/// custom attribute _RADIUS (SCALAR FLOAT), the id as _ID (SCALAR FLOAT:
+/// glTF allows no integer vertex attributes past 16 bits; exact to 2^24) and,
+/// with velocities, _VELOCITY (VEC3 FLOAT). With options.spheres, also node
 /// "particle spheres": a unit icosphere scaled to the mean radius, instanced
 /// once per particle by EXT_mesh_gpu_instancing (TRANSLATION, SCALE, and
 /// _COLOR_0 with colours). The extension is listed in extensionsUsed only,
@@ -48,15 +71,30 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
 void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
                const ParticleWriteOptions& options = {});
 
-/// CSV with header x,y,z,radius[,r,g,b][,vx,vy,vz]; numbers at full double
+/// CSV with header x,y,z,radius[,r,g,b][,vx,vy,vz],id (Houdini names:
+/// x,y,z,pscale[,Cd.r,Cd.g,Cd.b][,v.x,v.y,v.z],id); numbers at full double
 /// precision (max_digits10), so a read gives back the same values.
 void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
                const ParticleWriteOptions& options = {});
 
 /// VTK XML PolyData: Points (Float64), one vertex cell per particle, PointData
-/// "radius", "colour" (UInt8 x3) and "velocity" (Float64 x3) where present.
+/// "radius", "id" (Int64), "colour" (UInt8 x3) and "velocity" (Float64 x3)
+/// where present.
 void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
                const ParticleWriteOptions& options = {});
+
+/// LAMMPS data file for atom_style sphere: one atom type, Atoms lines
+/// `id type diameter density x y z` (ids: ParticleSet::id), a Velocities
+/// section `id vx vy vz 0 0 0` with velocities; the box from options.box.
+/// Colours are not written (LAMMPS has no place for them).
+void write_lammps_data(const ParticleSet& particles, const std::filesystem::path& path,
+                       const ParticleWriteOptions& options = {});
+
+/// Whitespace text for Yade's ymport.text: `#` comment lines, then one line
+/// `x y z r id` per particle (ymport.text reads the first four columns),
+/// followed by `vx vy vz` with velocities. Colours are not written.
+void write_xyzr(const ParticleSet& particles, const std::filesystem::path& path,
+                const ParticleWriteOptions& options = {});
 
 struct ParticleReadOptions {
   /// Radius of every particle when the file has none; 0 means "the file must
@@ -78,10 +116,11 @@ ParticleSet read_ply(const std::filesystem::path& path, const ParticleReadOption
 ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOptions& options = {});
 
 /// Writes a fill as numbered PLY files DIR/frame_000000.ply, frame_000001.ply,
-/// ... one every `every` steps, each atomically; creates DIR.
+/// ... one every `every` steps, each atomically; creates DIR. Each frame
+/// carries the particles' ids, so a particle can be followed across frames.
 class FrameWriter {
  public:
-  FrameWriter(std::filesystem::path dir, uint64_t every);
+  FrameWriter(std::filesystem::path dir, uint64_t every, ParticleWriteOptions options = {});
 
   /// Writes a frame when step % every == 0; returns whether it did.
   bool offer(uint64_t step, const ParticleSet& particles);
@@ -97,6 +136,7 @@ class FrameWriter {
  private:
   std::filesystem::path dir_;
   uint64_t every_;
+  ParticleWriteOptions options_;
   uint64_t next_frame_ = 0;
 };
 

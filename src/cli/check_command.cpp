@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/mesh_diagnostics.hpp"
@@ -18,6 +19,8 @@ void add_check_command(CLI::App& app) {
     double radius = 0;
     double tolerance = 0.01;
     bool json = false;
+    // Thresholds (negative: not checked); a miss exits with kExitThresholdMissed.
+    double min_inside = -1, max_overlap = -1, min_packing = -1;
   };
   auto a = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("check", "Measure a particle file against a mesh: packing, containment, overlaps");
@@ -27,25 +30,47 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--tolerance", a->tolerance, "Allowed crossing of the surface, as a fraction of r")
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Write the metrics as JSON on standard output");
+  cmd->add_option("--min-inside", a->min_inside,
+                  "Exit with status 3 unless at least this share of the spheres (0..1) lies inside")
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--max-overlap", a->max_overlap,
+                  "Exit with status 3 if any pair overlaps by more than this fraction of r")
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--min-packing", a->min_packing,
+                  "Exit with status 3 unless the packing fraction is at least this")
+      ->check(CLI::Range(0.0, 1.0));
   cmd->callback([a]() {
     ParticleReadOptions ro;
     ro.default_radius = a->radius;
     const ParticleSet particles = read_particles(a->particles, ro);
-    bool builtin = false;
-    for (const std::string& n : builtin_shape_names()) builtin = builtin || n == a->mesh;
-    const Mesh mesh = builtin ? make_builtin(a->mesh) : load_mesh(a->mesh);
+    const Mesh mesh = load_mesh_argument(a->mesh);
     const Boundary boundary(mesh);
     MetricsOptions mo;
     mo.containment_tolerance = a->tolerance;
     const PackingMetrics m = measure_packing(boundary, diagnose(mesh).volume(), particles, mo);
+    std::vector<std::string> misses;
+    if (a->min_inside >= 0 && m.contained_share < a->min_inside)
+      misses.push_back(num(100 * m.contained_share, 4) + "% of the spheres lie inside, below --min-inside " +
+                       num(100 * a->min_inside, 4) + "%");
+    if (a->max_overlap >= 0 && m.max_overlap > a->max_overlap)
+      misses.push_back("the largest overlap is " + num(100 * m.max_overlap, 4) + "% of r, above --max-overlap " +
+                       num(100 * a->max_overlap, 4) + "%");
+    if (a->min_packing >= 0 && m.packing_fraction < a->min_packing)
+      misses.push_back("the packing fraction is " + num(m.packing_fraction, 4) + ", below --min-packing " +
+                       num(a->min_packing, 4));
     if (a->json) {
       nlohmann::ordered_json j{{"particles_file", a->particles}, {"mesh", mesh.source}};
       j["metrics"] = metrics_json(m);
+      j["passed"] = misses.empty();
+      j["failures"] = misses;
       std::cout << j.dump(2) << "\n";
     } else {
       std::printf("%s in %s\n", a->particles.c_str(), mesh.source.c_str());
       print_metrics(stdout, m);
     }
+    std::fflush(stdout);
+    for (const std::string& miss : misses) std::fprintf(stderr, "pfill check: FAILED: %s\n", miss.c_str());
+    if (!misses.empty()) throw ExitStatus{kExitThresholdMissed};
   });
 }
 

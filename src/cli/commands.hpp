@@ -5,6 +5,18 @@
 
 namespace pfill::cli {
 
+/// Exit statuses of the `pfill` program (listed in the README).
+constexpr int kExitOk = 0;
+constexpr int kExitError = 1;             ///< one line on stderr: what went wrong and the way out
+constexpr int kExitUsage = 2;             ///< bad command line (CLI11's message)
+constexpr int kExitThresholdMissed = 3;   ///< `check`: the file was measured and missed a threshold
+
+/// Thrown by a subcommand to end the program with `status` after it has
+/// said why (main() prints nothing more).
+struct ExitStatus {
+  int status;
+};
+
 /// `pfill fill [MESH] -o OUT [options]`: the main job; returns the subcommand
 CLI::App* add_fill_command(CLI::App& app);
 /// `pfill check PARTICLES MESH [--json]`

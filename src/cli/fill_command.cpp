@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/format.hpp"
+#include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
 #include "pfill/atomic_file.hpp"
 #include "pfill/error.hpp"
@@ -40,6 +41,9 @@ struct FillArgs {
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
+  bool json = false;                  // the summary as JSON on stdout
+  std::string attribute_names = "pfill";
+  double density = 1.0;               // LAMMPS .data
   FillOptions options;
 };
 
@@ -137,7 +141,7 @@ nlohmann::ordered_json report_json(const FillArgs& a, const Mesh& mesh, const Fi
 
 // Fails before a long fill, not after it, when an output cannot be written.
 void check_output_folder(const std::string& path, const char* what) {
-  if (path.empty()) return;
+  if (path.empty() || path == "-") return;  // "-": standard output
   const fs::path folder = fs::absolute(fs::path(path)).parent_path();
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
@@ -147,11 +151,17 @@ void check_output_folder(const std::string& path, const char* what) {
 
 void run_fill(FillArgs& a) {
   const bool from_file = !a.mesh.empty();
-  const Mesh mesh = from_file ? load_mesh(a.mesh) : make_builtin(a.builtin);
+  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
   check_output_folder(a.output, "the output");
   particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
+  ParticleWriteOptions wo;
+  wo.spheres = a.spheres;
+  wo.velocities = a.velocities;
+  wo.names = parse_attribute_names(a.attribute_names);
+  wo.density = a.density;
+  wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
   check_output_folder(a.preview, "the preview");
   check_output_folder(a.report, "the report");
   if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
@@ -170,7 +180,7 @@ void run_fill(FillArgs& a) {
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
   std::unique_ptr<FrameWriter> frames;
   if (!a.frames.empty()) {
-    frames = std::make_unique<FrameWriter>(a.frames, 1);
+    frames = std::make_unique<FrameWriter>(a.frames, 1, wo);
     a.options.frame_every = a.frame_every;
     a.options.on_frame = [&frames](uint64_t, const ParticleSet& s) { frames->write(s); };
   }
@@ -179,9 +189,6 @@ void run_fill(FillArgs& a) {
   printer.end_line();
   for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
 
-  ParticleWriteOptions wo;
-  wo.spheres = a.spheres;
-  wo.velocities = a.velocities;
   write_particles(r.particles, a.output, wo);
   if (frames) frames->write(r.particles);
   if (!a.preview.empty()) {
@@ -189,9 +196,12 @@ void run_fill(FillArgs& a) {
     ro.cut = parse_cut("z");
     write_png(render(r.particles, &mesh, ro), a.preview);
   }
-  if (!a.report.empty()) {
-    const std::string text = report_json(a, mesh, r).dump(2) + "\n";
-    write_file_atomically(a.report, [&](AtomicFile& f) { f.write(text); });
+  const std::string report = report_json(a, mesh, r).dump(2) + "\n";
+  if (!a.report.empty() && a.report != "-")
+    write_file_atomically(a.report, [&](AtomicFile& f) { f.write(report); });
+  if (a.json || a.report == "-") {  // the JSON alone on stdout, for scripts
+    std::fputs(report.c_str(), stdout);
+    return;
   }
 
   std::printf("%s -> %s  (radius %s, %s)\n", mesh.source.c_str(), a.output.c_str(), num(r.radius).c_str(),
@@ -216,11 +226,14 @@ CLI::App* add_fill_command(CLI::App& app) {
   auto a = std::make_shared<FillArgs>();
   FillOptions& o = a->options;
   CLI::App* cmd = app.add_subcommand("fill", "Fill a mesh with particles (no mesh: a built-in shape)");
-  cmd->add_option("mesh", a->mesh, "Mesh file: glTF/GLB, OBJ, STL, PLY, OFF, SMF, FBX, DAE, ...");
+  cmd->add_option("mesh", a->mesh,
+                  "Mesh file: glTF/GLB, OBJ, STL, PLY, OFF, SMF, FBX, DAE, ...; or a built-in shape name (torus, "
+                  "sphere, cube)");
   cmd->add_option("--builtin", a->builtin, "Built-in shape when no mesh is given: torus, sphere, cube")
       ->capture_default_str();
   cmd->add_option("-o,--output", a->output,
-                  "Output file; format from the extension: .ply .glb .csv .vtp (default NAME_particles.ply here)");
+                  "Output file; format from the extension: .ply .glb .csv .vtp, .data (LAMMPS read_data, "
+                  "atom_style sphere), .xyzr (Yade ymport.text) (default NAME_particles.ply here)");
   cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units");
   cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius, allowing for --rest-distance; default 4000)");
   cmd->add_option("--rest-distance", o.rest_distance,
@@ -270,12 +283,26 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--sync-every", o.sync_every, "Steps between reads of the step history and positions")
       ->capture_default_str();
   cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
-  cmd->add_option("--report", a->report, "Write the metrics and the run's figures as JSON to this file");
+  cmd->add_option("--report", a->report,
+                  "Write the metrics and the run's figures as JSON to this file (- : standard output, instead of "
+                  "the summary)");
+  cmd->add_flag("--json", a->json, "Print the summary as JSON (the --report document) on standard output");
   cmd->add_option("--preview", a->preview, "Render the result, cut open, to this PNG");
   cmd->add_option("--frames", a->frames, "Write the fill as numbered PLY frames into this folder");
   cmd->add_option("--every", a->frame_every, "Steps between frames")->capture_default_str();
   cmd->add_flag("--spheres", a->spheres, "GLB: an instanced low-poly sphere per particle");
-  cmd->add_flag("--velocities", a->velocities, "Write velocities (PLY vx vy vz, CSV, VTP)");
+  cmd->add_flag("--velocities", a->velocities,
+                "Write each particle's last velocity (PLY/CSV vx vy vz, VTP velocity, GLB _VELOCITY, LAMMPS "
+                "Velocities, xyzr columns 6-8), also in --frames");
+  cmd->add_option("--attribute-names", a->attribute_names,
+                  "PLY and CSV attribute names: pfill (radius, red green blue, vx vy vz, id) or houdini "
+                  "(pscale, Cd.r Cd.g Cd.b as floats 0..1, v.x v.y v.z, id)")
+      ->check(CLI::IsMember({"pfill", "houdini"}))
+      ->capture_default_str();
+  cmd->add_option("--density", a->density, "LAMMPS .data: every particle's density (mass per volume, in the "
+                                           "units of your LAMMPS run)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
   cmd->callback([a]() { run_fill(*a); });
   return cmd;

@@ -5,6 +5,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/format.hpp"
+#include "cli/mesh_argument.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/shapes.hpp"
@@ -104,13 +105,14 @@ void print_text(const std::string& name, const MeshDiagnostics& d) {
 void add_info_command(CLI::App& app) {
   auto opts = std::make_shared<InfoOptions>();
   CLI::App* cmd = app.add_subcommand("info", "Report a mesh's size, topology, volume and fitting radii");
-  cmd->add_option("mesh", opts->mesh_path, "Mesh file (glTF/GLB, OBJ, STL, PLY, OFF, SMF, ...)");
+  cmd->add_option("mesh", opts->mesh_path,
+                  "Mesh file (glTF/GLB, OBJ, STL, PLY, OFF, SMF, ...) or a built-in shape name (torus, sphere, cube)");
   cmd->add_option("--builtin", opts->builtin, "Use a built-in shape instead of a file (torus, sphere, cube)");
   cmd->add_flag("--json", opts->json, "Write the report as JSON on standard output");
   cmd->callback([opts]() {
     if (opts->mesh_path.empty() == opts->builtin.empty())
       throw CLI::ValidationError("info", "give either a mesh file or --builtin NAME");
-    const Mesh mesh = opts->builtin.empty() ? load_mesh(opts->mesh_path) : make_builtin(opts->builtin);
+    const Mesh mesh = opts->builtin.empty() ? load_mesh_argument(opts->mesh_path) : make_builtin(opts->builtin);
     const MeshDiagnostics d = diagnose(mesh);
     if (opts->json) {
       std::cout << to_json(mesh.source, d).dump(2) << "\n";

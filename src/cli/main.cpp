@@ -1,6 +1,7 @@
 // pfill: fill a closed triangle mesh with densely packed spherical particles.
 // `pfill` alone fills a built-in shape (the same as `pfill fill`).
-// Exit codes: 0 success, 1 error (one line on stderr), 2 bad usage.
+// Exit codes (cli/commands.hpp, README): 0 success, 1 error (one line on
+// stderr), 2 bad usage, 3 `check` missed a threshold.
 #include <iostream>
 #include <vector>
 
@@ -22,13 +23,29 @@ int main(int argc, char** argv) {
 
   std::vector<const char*> args(argv, argv + argc);
   if (argc == 1) args.push_back("fill");  // the main job on a built-in shape
+  // CLI11 answers a mistyped command with "A subcommand is required": name it.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string known;
+    bool found = false;
+    for (const CLI::App* sub : app.get_subcommands({})) {
+      found = found || sub->get_name() == argv[1];
+      known += (known.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!found) {
+      std::cerr << "pfill: error: unknown command '" << argv[1] << "': use one of " << known
+                << " (e.g. pfill fill MESH -o out.ply; pfill --help)\n";
+      return pfill::cli::kExitUsage;
+    }
+  }
   try {
     app.parse(static_cast<int>(args.size()), const_cast<char**>(args.data()));
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? 0 : 2;  // --help and --version exit 0
+    return app.exit(e) == 0 ? pfill::cli::kExitOk : pfill::cli::kExitUsage;  // --help and --version exit 0
+  } catch (const pfill::cli::ExitStatus& e) {
+    return e.status;
   } catch (const std::exception& e) {
     std::cerr << "pfill: error: " << e.what() << "\n";
-    return 1;
+    return pfill::cli::kExitError;
   }
-  return 0;
+  return pfill::cli::kExitOk;
 }

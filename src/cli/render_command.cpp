@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include "cli/commands.hpp"
+#include "cli/mesh_argument.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/colour.hpp"
 #include "pfill/mesh_io.hpp"
@@ -39,9 +40,7 @@ struct RenderArguments {
 // The shell drawn around the particles: a built-in shape name or a mesh file.
 std::optional<Mesh> load_shell(const std::string& name) {
   if (name.empty()) return std::nullopt;
-  for (const std::string& builtin : builtin_shape_names())
-    if (name == builtin) return make_builtin(name);
-  return load_mesh(name);
+  return cli::load_mesh_argument(name);
 }
 
 void parse_size(const std::string& text, RenderOptions& options) {

@@ -90,6 +90,7 @@ struct Engine::Impl {
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours, k_pairs;
 
   size_t n = 0, capacity = 0;
+  std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
   int cur = 0;  // which half of X and V holds the current state
   cl::Buffer X[2], V[2], flags, clearance;
   // Neighbour lists (see the top of engine.cl).
@@ -569,6 +570,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
   m.reserve(first + particles.size());
+  for (const Particle& p : particles) m.ids.push_back(p.id);
   if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
     m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts, m.list_spans,
                               m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
@@ -622,6 +624,8 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
       m.run(m.k_move, 1);
     }
+    m.ids[idx] = m.ids[last];  // the ids follow the swap with the last
+    m.ids.pop_back();
     // Counts past the last particle stay 0 (a linked birth counts up from there).
     check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
              "clEnqueueFillBuffer", "neighbour list count");
@@ -667,6 +671,7 @@ std::vector<Particle> Engine::read_particles() {
     out[i].radius = xs[i].s[3];
     out[i].velocity = {vs[i].s[0], vs[i].s[1], vs[i].s[2]};
     out[i].mass = 1.0 / vs[i].s[3];
+    out[i].id = m.ids[i];
   }
   return out;
 }
@@ -717,9 +722,11 @@ std::vector<size_t> Engine::sort_by_cells() {
   std::vector<size_t> order(n);
   std::vector<cl_float4> xs2(n), vs2(n);
   std::vector<cl_uint> flags2(n);
+  std::vector<uint64_t> ids2(n);
   for (size_t k = 0; k < n; ++k) {
     const size_t i = keyed[k].second;
     order[k] = i;
+    ids2[k] = m.ids[i];
     xs2[k] = xs[i];
     vs2[k] = vs[i];
     flags2[k] = flags[i];
@@ -735,6 +742,7 @@ std::vector<size_t> Engine::sort_by_cells() {
     check_cl(q.enqueueFillBuffer(m.clearance, cl_float(0), 0, n * sizeof(cl_float)), "clEnqueueFillBuffer",
              "clearance");
   }
+  m.ids = std::move(ids2);
   m.lists_valid = false;  // the next step rebuilds every list
   m.newcomers.clear();
   return order;

@@ -51,6 +51,8 @@ ParticleSet to_particle_set(const std::vector<Particle>& ps) {
   for (const Particle& p : ps) {
     set.positions.push_back(p.position);
     set.radii.push_back(p.radius);
+    set.velocities.push_back(p.velocity);  // written with --velocities
+    set.ids.push_back(p.id);
   }
   return set;
 }
@@ -362,6 +364,7 @@ class FillRun {
       for (size_t k = 0; k < voids.size(); ++k) {
         newcomers[k].position = voids[k];
         newcomers[k].radius = radius_;
+        newcomers[k].id = next_id_++;
       }
       relaxer_->add_particles(newcomers);
       result_.voids_filled += voids.size();
@@ -441,6 +444,7 @@ class FillRun {
       Particle p;
       p.position = site.position;
       p.radius = radius_;
+      p.id = next_id_++;
       p.velocity = random_direction() * (top_speed_ * (o_.birth_speed_min + (o_.birth_speed_max - o_.birth_speed_min) * speed_(rng_)));
       newest_ = engine_->add_particle(p);
       newborns_.push_back({p.position, p.velocity, engine_->steps_done()});
@@ -557,6 +561,7 @@ class FillRun {
   std::vector<Vec3> snapshot_;
   size_t newest_ = Engine::kGone;  // index of the last particle born (kGone: removed)
   uint64_t next_sort_ = 0;     // step of the next renumbering along the cells
+  uint64_t next_id_ = 1;       // ids in birth order; the engines carry them (Particle::id)
   struct Newborn {
     Vec3 position, velocity;
     uint64_t step;

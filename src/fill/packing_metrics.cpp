@@ -132,6 +132,7 @@ ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& part
     kept.radii.push_back(particles.radii[i]);
     if (!particles.colours.empty()) kept.colours.push_back(particles.colours[i]);
     if (!particles.velocities.empty()) kept.velocities.push_back(particles.velocities[i]);
+    if (!particles.ids.empty()) kept.ids.push_back(particles.ids[i]);
   }
   result.moved = 0;
   for (size_t i : crossing)

@@ -71,15 +71,17 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
   const int x = column({"x"}), y = column({"y"}), z = column({"z"});
   if (x < 0 || y < 0 || z < 0)
     fail("the header '" + line + "' lacks x, y or z (the first line must name the columns)");
-  const int radius = column({"radius"});
+  const int radius = column({"radius", "pscale"});  // pscale, cd.*, v.*: --attribute-names houdini
   if (radius < 0 && !(options.default_radius > 0))
     fail("there is no 'radius' column: give a default radius (e.g. --radius R)");
-  const int r = column({"r", "red"}), g = column({"g", "green"}), b = column({"b", "blue"});
+  const int r = column({"r", "red", "cd.r"}), g = column({"g", "green", "cd.g"}), b = column({"b", "blue", "cd.b"});
   const bool colours = r >= 0 && g >= 0 && b >= 0;
-  const int vx = column({"vx"}), vy = column({"vy"}), vz = column({"vz"});
+  const double colour_scale = colours && header[r] == "cd.r" ? 255.0 : 1.0;  // Houdini's Cd: floats 0..1
+  const int vx = column({"vx", "v.x"}), vy = column({"vy", "v.y"}), vz = column({"vz", "v.z"});
   const bool velocities = vx >= 0 && vy >= 0 && vz >= 0;
+  const int id = column({"id"});
   const size_t needed = static_cast<size_t>(std::max({x, y, z, radius, colours ? std::max({r, g, b}) : -1,
-                                                      velocities ? std::max({vx, vy, vz}) : -1})) + 1;
+                                                      velocities ? std::max({vx, vy, vz}) : -1, id})) + 1;
 
   ParticleSet particles;
   while (next_line(line)) {
@@ -102,7 +104,7 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
       Rgb8 c{};
       const int columns[3] = {r, g, b};
       for (int k = 0; k < 3; ++k) {
-        const double v = number(columns[k]);
+        const double v = number(columns[k]) * colour_scale;
         if (!(v >= 0 && v <= 255))
           fail("line " + std::to_string(line_number) + ": colour " + fields[columns[k]] +
                " is outside 0..255");
@@ -111,6 +113,12 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
       particles.colours.push_back(c);
     }
     if (velocities) particles.velocities.emplace_back(number(vx), number(vy), number(vz));
+    if (id >= 0) {
+      const double v = number(id);
+      if (!(v >= 0 && v < 1.8e19 && v == std::floor(v)))
+        fail("line " + std::to_string(line_number) + ": id " + fields[id] + " is not a whole number >= 0");
+      particles.ids.push_back(static_cast<uint64_t>(v));
+    }
   }
   validate(particles, name);
   return particles;

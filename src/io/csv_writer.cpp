@@ -1,34 +1,26 @@
-// CSV writer: x,y,z,radius[,r,g,b][,vx,vy,vz], one particle per line.
+// CSV writer: x,y,z,radius[,r,g,b][,vx,vy,vz],id, one particle per line
+// (Houdini names: x,y,z,pscale[,Cd.r,Cd.g,Cd.b][,v.x,v.y,v.z],id).
 #include <charconv>
 #include <string>
 
 #include "pfill/atomic_file.hpp"
 #include "pfill/particle_io.hpp"
 #include "io/chunked_records.hpp"
+#include "io/number_text.hpp"
 
 namespace pfill {
-namespace {
-
-// Shortest decimal form that reads back to the same double (at most
-// max_digits10 = 17 significant digits), so CSV round trips are exact.
-void append_number(std::string& out, double v) {
-  char buffer[32];
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-  out.append(buffer, result.ptr);
-}
-
-}  // namespace
 
 void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
                const ParticleWriteOptions& options) {
   validate(particles, path.string());
   const bool colours = particles.has_colours();
   const bool velocities = options.velocities && particles.has_velocities();
+  const bool houdini = options.names == AttributeNames::Houdini;
 
-  std::string header = "x,y,z,radius";
-  if (colours) header += ",r,g,b";
-  if (velocities) header += ",vx,vy,vz";
-  header += "\n";
+  std::string header = houdini ? "x,y,z,pscale" : "x,y,z,radius";
+  if (colours) header += houdini ? ",Cd.r,Cd.g,Cd.b" : ",r,g,b";
+  if (velocities) header += houdini ? ",v.x,v.y,v.z" : ",vx,vy,vz";
+  header += ",id\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
@@ -44,7 +36,10 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
       if (colours) {
         for (uint8_t c : particles.colours[i]) {
           chunk += ',';
-          chunk += std::to_string(static_cast<int>(c));
+          if (houdini)
+            append_number(chunk, c / 255.0);  // Houdini's Cd: floats 0..1
+          else
+            chunk += std::to_string(static_cast<int>(c));
         }
       }
       if (velocities) {
@@ -54,6 +49,8 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
           append_number(chunk, v[k]);
         }
       }
+      chunk += ',';
+      chunk += std::to_string(particles.id(i));
       chunk += '\n';
     });
   });

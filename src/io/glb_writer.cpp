@@ -162,11 +162,14 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
   model.defaultScene = 0;
   GltfBuilder builder(model);
 
-  std::vector<float> positions, radii, colours;
+  std::vector<float> positions, radii, colours, ids, velocities;
   positions.reserve(particles.size() * 3);
   for (const Vec3& p : particles.positions)
     positions.insert(positions.end(), {float(p.x), float(p.y), float(p.z)});
   radii.assign(particles.radii.begin(), particles.radii.end());
+  for (size_t i = 0; i < particles.size(); ++i) ids.push_back(static_cast<float>(particles.id(i)));
+  if (options.velocities)
+    for (const Vec3& v : particles.velocities) velocities.insert(velocities.end(), {float(v.x), float(v.y), float(v.z)});
   for (const Rgb8& c : particles.colours)
     colours.insert(colours.end(), {srgb8_to_linear(c[0]), srgb8_to_linear(c[1]), srgb8_to_linear(c[2])});
 
@@ -177,6 +180,8 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
     points.attributes["POSITION"] = builder.add_floats(positions, 3, kArrayBuffer, true);
     if (!colours.empty()) points.attributes["COLOR_0"] = builder.add_floats(colours, 3, kArrayBuffer, false);
     points.attributes["_RADIUS"] = builder.add_floats(radii, 1, kArrayBuffer, false);
+    points.attributes["_ID"] = builder.add_floats(ids, 1, kArrayBuffer, false);
+    if (!velocities.empty()) points.attributes["_VELOCITY"] = builder.add_floats(velocities, 3, kArrayBuffer, false);
     tinygltf::Mesh mesh;
     mesh.name = "particles";
     mesh.primitives.push_back(points);

@@ -19,8 +19,17 @@ ParticleFormat particle_format_from_path(const fs::path& path) {
   if (extension == ".glb") return ParticleFormat::Glb;
   if (extension == ".csv") return ParticleFormat::Csv;
   if (extension == ".vtp") return ParticleFormat::Vtp;
+  if (extension == ".data") return ParticleFormat::LammpsData;
+  if (extension == ".xyzr") return ParticleFormat::Xyzr;
   throw Error("'" + path.string() + "': unknown particle file type '" + extension +
-              "' (use .ply, .glb, .csv or .vtp)");
+              "' (use .ply, .glb, .csv, .vtp, .data for LAMMPS or .xyzr for Yade)");
+}
+
+AttributeNames parse_attribute_names(const std::string& text) {
+  if (text == "pfill") return AttributeNames::Pfill;
+  if (text == "houdini") return AttributeNames::Houdini;
+  throw Error("attribute names '" + text + "': use pfill (radius, red green blue, vx vy vz) or houdini "
+              "(pscale, Cd, v)");
 }
 
 void write_particles(const ParticleSet& particles, const fs::path& path,
@@ -30,6 +39,8 @@ void write_particles(const ParticleSet& particles, const fs::path& path,
     case ParticleFormat::Glb: return write_glb(particles, path, options);
     case ParticleFormat::Csv: return write_csv(particles, path, options);
     case ParticleFormat::Vtp: return write_vtp(particles, path, options);
+    case ParticleFormat::LammpsData: return write_lammps_data(particles, path, options);
+    case ParticleFormat::Xyzr: return write_xyzr(particles, path, options);
   }
 }
 
@@ -40,7 +51,8 @@ ParticleSet read_particles(const fs::path& path, const ParticleReadOptions& opti
   throw Error("cannot read '" + path.string() + "': pfill reads particles from .ply and .csv files only");
 }
 
-FrameWriter::FrameWriter(fs::path dir, uint64_t every) : dir_(std::move(dir)), every_(every) {
+FrameWriter::FrameWriter(fs::path dir, uint64_t every, ParticleWriteOptions options)
+    : dir_(std::move(dir)), every_(every), options_(std::move(options)) {
   if (every_ == 0) throw Error("frames every 0 steps: give a positive interval (--every K)");
   std::error_code ec;
   fs::create_directories(dir_, ec);
@@ -57,7 +69,7 @@ bool FrameWriter::offer(uint64_t step, const ParticleSet& particles) {
 
 fs::path FrameWriter::write(const ParticleSet& particles) {
   const fs::path path = frame_path(dir_, next_frame_);
-  write_ply(particles, path);
+  write_ply(particles, path, options_);
   ++next_frame_;
   return path;
 }

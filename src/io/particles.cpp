@@ -30,6 +30,9 @@ void validate(const ParticleSet& particles, const std::string& source) {
   if (!particles.velocities.empty() && particles.velocities.size() != n)
     fail(std::to_string(n) + " positions but " + std::to_string(particles.velocities.size()) +
          " velocities (give one per particle or none)");
+  if (!particles.ids.empty() && particles.ids.size() != n)
+    fail(std::to_string(n) + " positions but " + std::to_string(particles.ids.size()) +
+         " ids (give one per particle or none)");
   for (size_t i = 0; i < n; ++i) {
     if (!is_finite(particles.positions[i]))
       fail("particle " + std::to_string(i) + " has a non-finite position");

@@ -241,14 +241,15 @@ class PlyParser {
     };
     const int x = find({"x"}), y = find({"y"}), z = find({"z"});
     if (x < 0 || y < 0 || z < 0) fail("its vertex element lacks x, y or z");
-    const int radius = find({"radius"});
+    const int radius = find({"radius", "pscale"});  // pscale: --attribute-names houdini
     if (radius < 0 && !(options.default_radius > 0))
       fail("its vertices have no 'radius' property: give a default radius (e.g. --radius R)");
-    const int red = find({"red", "diffuse_red", "r"}), green = find({"green", "diffuse_green", "g"}),
-              blue = find({"blue", "diffuse_blue", "b"});
+    const int red = find({"red", "diffuse_red", "r", "Cd.r"}), green = find({"green", "diffuse_green", "g", "Cd.g"}),
+              blue = find({"blue", "diffuse_blue", "b", "Cd.b"});
     const bool colours = red >= 0 && green >= 0 && blue >= 0;
-    const int vx = find({"vx"}), vy = find({"vy"}), vz = find({"vz"});
+    const int vx = find({"vx", "v.x"}), vy = find({"vy", "v.y"}), vz = find({"vz", "v.z"});
     const bool velocities = vx >= 0 && vy >= 0 && vz >= 0;
+    const int id = find({"id"});
 
     check_fits(element);
     const size_t n = static_cast<size_t>(element.count);
@@ -257,6 +258,7 @@ class PlyParser {
     particles.radii.assign(n, options.default_radius);
     if (colours) particles.colours.resize(n);
     if (velocities) particles.velocities.resize(n);
+    if (id >= 0) particles.ids.resize(n);
 
     std::vector<double> values(element.properties.size());
     auto colour = [&](int k) {
@@ -274,6 +276,7 @@ class PlyParser {
         particles.colours[i] = {colour(red), colour(green), colour(blue)};
       }
       if (velocities) particles.velocities[i] = Vec3(values[vx], values[vy], values[vz]);
+      if (id >= 0) particles.ids[i] = values[id] >= 0 && values[id] < 1.8e19 ? static_cast<uint64_t>(values[id]) : 0;
     }
     validate(particles, path_);
     return particles;

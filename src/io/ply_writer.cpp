@@ -14,14 +14,20 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
   validate(particles, path.string());
   const bool colours = particles.has_colours();
   const bool velocities = options.velocities && particles.has_velocities();
+  const bool houdini = options.names == AttributeNames::Houdini;
 
   std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment written by pfill: spheres, radius in model units\n"
       "element vertex " + std::to_string(particles.size()) + "\n"
-      "property float x\nproperty float y\nproperty float z\nproperty float radius\n";
-  if (colours) header += "property uchar red\nproperty uchar green\nproperty uchar blue\n";
-  if (velocities) header += "property float vx\nproperty float vy\nproperty float vz\n";
-  header += "end_header\n";
+      "property float x\nproperty float y\nproperty float z\n";
+  header += houdini ? "property float pscale\n" : "property float radius\n";
+  if (colours)
+    header += houdini ? "property float Cd.r\nproperty float Cd.g\nproperty float Cd.b\n"
+                      : "property uchar red\nproperty uchar green\nproperty uchar blue\n";
+  if (velocities)
+    header += houdini ? "property float v.x\nproperty float v.y\nproperty float v.z\n"
+                      : "property float vx\nproperty float vy\nproperty float vz\n";
+  header += "property uint id\nend_header\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
@@ -31,13 +37,18 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
       byte_order::append_f32_le(chunk, static_cast<float>(p.y));
       byte_order::append_f32_le(chunk, static_cast<float>(p.z));
       byte_order::append_f32_le(chunk, static_cast<float>(particles.radii[i]));
-      if (colours) chunk.append(reinterpret_cast<const char*>(particles.colours[i].data()), 3);
+      if (colours && houdini) {
+        for (uint8_t c : particles.colours[i]) byte_order::append_f32_le(chunk, c / 255.0f);
+      } else if (colours) {
+        chunk.append(reinterpret_cast<const char*>(particles.colours[i].data()), 3);
+      }
       if (velocities) {
         const Vec3& v = particles.velocities[i];
         byte_order::append_f32_le(chunk, static_cast<float>(v.x));
         byte_order::append_f32_le(chunk, static_cast<float>(v.y));
         byte_order::append_f32_le(chunk, static_cast<float>(v.z));
       }
+      byte_order::append_u32_le(chunk, static_cast<uint32_t>(particles.id(i)));
     });
   });
 }

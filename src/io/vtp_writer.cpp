@@ -1,5 +1,5 @@
 // VTK XML PolyData writer (.vtp) for ParaView: one vertex cell per particle,
-// radius, colour and velocity as point data. Binary output uses VTK's
+// radius, id, colour and velocity as point data. Binary output uses VTK's
 // "appended raw" layout: after '_', each array is a UInt64 byte count
 // followed by its little-endian values.
 #include <charconv>
@@ -82,6 +82,7 @@ void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
   const VtpArray offsets = int64_array("offsets", n, [](size_t k) { return int64_t(k + 1); });
   std::vector<VtpArray> point_data;
   point_data.push_back(float64_array("radius", 1, n, [&](size_t k) { return particles.radii[k]; }));
+  point_data.push_back(int64_array("id", n, [&](size_t k) { return static_cast<int64_t>(particles.id(k)); }));
   if (particles.has_colours()) {
     VtpArray colour{"UInt8", "colour", 3, n * 3, 1, {}, {}};
     colour.append_binary = [&](std::string& out, size_t k) {

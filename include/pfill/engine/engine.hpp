@@ -44,6 +44,7 @@ struct Particle {
   Vec3 velocity;   ///< on read-back: the half-step velocity of the last step
   double radius = 0;
   double mass = 0; ///< 0 on add: derived from the radius (particle_mass)
+  uint64_t id = 0; ///< the caller's label; the engine keeps it with the particle (removals, sorts)
 };
 
 class Engine {

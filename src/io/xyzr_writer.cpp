@@ -1,0 +1,41 @@
+// Whitespace `x y z r` text for Yade's ymport.text (and any tool that reads
+// columns): `#` comment lines first, which ymport.text skips, then one line
+// per particle, no blank lines (ymport.text fails on them).
+#include <string>
+
+#include "io/chunked_records.hpp"
+#include "io/number_text.hpp"
+#include "pfill/atomic_file.hpp"
+#include "pfill/particle_io.hpp"
+
+namespace pfill {
+
+void write_xyzr(const ParticleSet& particles, const std::filesystem::path& path,
+                const ParticleWriteOptions& options) {
+  validate(particles, path.string());
+  const bool velocities = options.velocities && particles.has_velocities();
+  // Not "#format": ymport.text would take the next word as its format.
+  const std::string head = "# pfill particles: " + std::to_string(particles.size()) +
+                           " spheres; Yade: ymport.text(path) reads x y z r\n# x y z r id" +
+                           (velocities ? " vx vy vz" : "") + "\n";
+  write_file_atomically(path, [&](AtomicFile& file) {
+    file.write(head);
+    write_records(file, particles.size(), 1 << 13, [&](std::string& chunk, size_t i) {
+      for (int k = 0; k < 3; ++k) {
+        append_number(chunk, particles.positions[i][k]);
+        chunk += ' ';
+      }
+      append_number(chunk, particles.radii[i]);
+      chunk += ' ';
+      chunk += std::to_string(particles.id(i));
+      if (velocities)
+        for (int k = 0; k < 3; ++k) {
+          chunk += ' ';
+          append_number(chunk, particles.velocities[i][k]);
+        }
+      chunk += '\n';
+    });
+  });
+}
+
+}  // namespace pfill
