@@ -23,8 +23,15 @@ for path in args[1:]:
         continue
     meshes = [o for o in bpy.context.scene.objects if o.type == "MESH"]
     points = sum(len(o.data.vertices) for o in meshes if len(o.data.polygons) == 0)
-    colours = [a.name for o in meshes for a in getattr(o.data, "color_attributes", [])]
-    print(f"{path}: {len(meshes)} mesh objects, {points} points, colour attributes {colours}")
+    # What survived, as values (not only names): Blender 3.4's importers keep
+    # the points but lose colours and radii (see the README's Blender section).
+    colours = []
+    for o in meshes:
+        for a in getattr(o.data, "color_attributes", []):
+            colours.append(f"{a.name} ({a.domain}, {len(a.data)} values)")
+    attributes = sorted({a.name for o in meshes for a in o.data.attributes if not a.name.startswith(".")})
+    print(f"{path}: {len(meshes)} mesh objects, {points} points, colour attributes {colours}, "
+          f"attributes {attributes}")
     if points != expected:
         print(f"{path}: expected {expected} points")
         ok = False

@@ -234,6 +234,7 @@ TEST_CASE("CSV round trip is exact, and the reader follows the header") {
     std::string header = "x,y,z,radius";
     if (colours) header += ",r,g,b";
     if (velocities) header += ",vx,vy,vz";
+    header += ",id";  // 1..N: the set has no ids
     CHECK(text.rfind(header + "\n", 0) == 0);
     const ParticleSet read = read_particles(dir / "p.csv");
     CHECK(read.positions == set.positions);
