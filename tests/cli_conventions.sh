@@ -10,16 +10,20 @@ trap 'rm -rf "$work"' EXIT
 cd "$work"
 failures=0
 fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
-json_field() { /usr/bin/python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(eval("d" + sys.argv[2]))' "$@"; }
+# The particle count of a fill's JSON (no python needed: CI's Debian may lack it).
+particles_of() { grep -m1 '"particles":' "$1" | tr -dc '0-9'; }
+# A JSON document alone: '{' first, '}' last.
+json_alone() { [ "$(head -c 1 "$1")" = "{" ] && [ "$(tail -n 1 "$1")" = "}" ]; }
 
 # fill --json: stdout is one JSON document (progress and warnings on stderr).
 "$pfill" fill sphere -n 150 -o s.ply --json > fill.json 2> fill.err || fail "fill --json"
-[ "$(json_field fill.json '["metrics"]["particles"]')" -gt 100 ] || fail "fill --json: no particle count: $(head -c 300 fill.json)"
+json_alone fill.json || fail "fill --json: stdout is not one JSON document: $(head -c 300 fill.json)"
+[ "$(particles_of fill.json)" -gt 100 ] || fail "fill --json: no particle count: $(head -c 300 fill.json)"
 grep -q "pfill: filling" fill.err || fail "fill --json: progress should stay on stderr"
 # --report -: the same document on stdout.
 "$pfill" fill sphere -n 150 -q -o s2.ply --report - > report.json || fail "fill --report -"
-[ "$(json_field report.json '["metrics"]["particles"]')" = "$(json_field fill.json '["metrics"]["particles"]')" ] ||
-  fail "--report - and --json differ"
+json_alone report.json || fail "--report -: stdout is not one JSON document"
+[ "$(particles_of report.json)" = "$(particles_of fill.json)" ] || fail "--report - and --json differ"
 [ ! -e ./- ] || fail "--report - wrote a file named '-'"
 
 # check thresholds: met -> 0, missed -> 3 with a line naming the threshold.
@@ -31,7 +35,7 @@ grep -q "packing fraction" check.txt || fail "check: the metrics should still be
 "$pfill" fill cube -n 80 -q -o c0.ply > /dev/null || fail "fill cube"
 "$pfill" check c0.ply sphere --min-inside 0.999 --json > check.json 2>/dev/null
 [ $? -eq 3 ] || fail "check: particles of a cube in its inscribed sphere should miss --min-inside"
-[ "$(json_field check.json '["passed"]')" = "False" ] || fail "check --json: passed should be false"
+grep -q '"passed": false' check.json || fail "check --json: passed should be false"
 "$pfill" check s.ply sphere --min-packing 0.9 >/dev/null 2>&1
 [ $? -eq 3 ] || fail "check: a missed --min-packing should exit 3"
 
