@@ -90,6 +90,10 @@ for path in files:
               "each instance's scale is a particle's radius (the sphere has radius 1)")
     nodes = obj.modifiers["pfill spheres"].node_group.nodes
     check(any(node.type == "INSTANCE_ON_POINTS" for node in nodes), "geometry nodes: Instance on Points")
+    if ref["colours"] is not None:
+        shader = obj.active_material.node_tree.nodes
+        check(any(node.type == "ATTRIBUTE" and node.attribute_name == "colour" and node.outputs["Color"].is_linked
+                  for node in shader), "the material's base colour comes from the 'colour' attribute")
 
 print("blender pfill_import: " + ("all passed" if not failures else f"{len(failures)} FAILED"))
 sys.exit(1 if failures else 0)

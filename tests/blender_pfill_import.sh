@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The Blender add-on (blender/pfill_import.py) in Debian's Blender, headless:
-# a fill written as PLY, GLB, CSV and Houdini-named CSV imports as one
+# a fill written as PLY, GLB, CSV and Houdini-named CSV and PLY imports as one
 # sphere instance per particle with the file's radii, colours and ids (see
 # scripts/blender_pfill_import_check.py). Registered with ctest only where
 # blender is installed. Usage: blender_pfill_import.sh PFILL_BINARY REPO_DIR
@@ -10,11 +10,11 @@ repo="$2"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 # The same fill (same seed and options: the same particles) in each format.
-for out in fill.csv fill.ply fill.glb houdini.csv; do
+for out in fill.csv fill.ply fill.glb houdini.csv houdini.ply; do
   names=pfill
-  [ "$out" = houdini.csv ] && names=houdini
+  case "$out" in houdini.*) names=houdini ;; esac
   "$pfill" fill sphere -n 200 -q --colour depth --attribute-names "$names" -o "$work/$out" >/dev/null
 done
 blender -b --factory-startup --python-exit-code 1 -P "$repo/scripts/blender_pfill_import_check.py" -- \
-  "$repo" "$work/fill.csv" "$work/fill.ply" "$work/fill.glb" "$work/fill.csv" "$work/houdini.csv" 2>&1 |
+  "$repo" "$work/fill.csv" "$work/fill.ply" "$work/fill.glb" "$work/fill.csv" "$work/houdini.csv" "$work/houdini.ply" 2>&1 |
   grep -E "^  |^/|blender pfill_import|Error|Traceback|line [0-9]"
