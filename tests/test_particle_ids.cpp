@@ -52,6 +52,12 @@ TEST_CASE("a fill's ids are unique, stable across frames and in the result; the 
     }
   }
   CHECK(followed > 500);
+
+  // The velocities are the engine's, not zeros (--velocities wrote none before).
+  double fastest = 0;
+  for (const Vec3& v : frames[frames.size() / 2].velocities) fastest = std::max(fastest, length(v));
+  CHECK(fastest > 0);
+  REQUIRE(frames[0].velocities.size() == frames[0].size());
 }
 
 TEST_CASE("the engine keeps each particle's id through removals and renumbering") {

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
                "Run `pfill` alone to fill a built-in torus, or `pfill fill MESH -o out.ply`."};
   app.set_version_flag("--version", "pfill 0.1.0");
   app.require_subcommand(1);
+  app.footer("Exit codes: 0 success, 1 error (one line on stderr), 2 bad usage, 3 `check` missed a threshold.");
   pfill::cli::add_fill_command(app);
   pfill::cli::add_check_command(app);
   pfill::cli::add_info_command(app);
