@@ -281,6 +281,13 @@ def read_particles(path):
 
 # ---------------------------------------------------------------- Blender side
 
+def _add_socket(group, in_out, socket_type, name):
+    """A group input or output: Blender 4.0 moved them to group.interface."""
+    if hasattr(group, "interface"):
+        return group.interface.new_socket(name, in_out=in_out, socket_type=socket_type)
+    return (group.inputs if in_out == "INPUT" else group.outputs).new(socket_type, name)
+
+
 def _sphere_node_group(subdivisions):
     """Geometry nodes: an ico sphere on each vertex, scaled by `radius`, with the material.
     Instance on Points takes the mesh's vertices directly (Mesh to Points would
@@ -290,9 +297,9 @@ def _sphere_node_group(subdivisions):
     if group is not None:
         return group
     group = bpy.data.node_groups.new(name, "GeometryNodeTree")
-    group.inputs.new("NodeSocketGeometry", "Geometry")
-    group.inputs.new("NodeSocketMaterial", "Material")
-    group.outputs.new("NodeSocketGeometry", "Geometry")
+    _add_socket(group, "INPUT", "NodeSocketGeometry", "Geometry")
+    _add_socket(group, "INPUT", "NodeSocketMaterial", "Material")
+    _add_socket(group, "OUTPUT", "NodeSocketGeometry", "Geometry")
     nodes, links = group.nodes, group.links
     group_in = nodes.new("NodeGroupInput")
     group_out = nodes.new("NodeGroupOutput")
@@ -381,7 +388,9 @@ def import_particles(path, name=None, subdivisions=2, y_up=False, collection=Non
     modifier.node_group = _sphere_node_group(subdivisions)
     material = _colour_material(p["colours"] is not None)
     # The group's Material input: the modifier's property named by the socket's identifier.
-    modifier[modifier.node_group.inputs["Material"].identifier] = material
+    group = modifier.node_group
+    socket = group.interface.items_tree["Material"] if hasattr(group, "interface") else group.inputs["Material"]
+    modifier[socket.identifier] = material
     obj.data.materials.append(material)
     obj["pfill_source"] = path
     obj["pfill_particles"] = n

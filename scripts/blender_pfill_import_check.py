@@ -95,5 +95,20 @@ for path in files:
         check(any(node.type == "ATTRIBUTE" and node.attribute_name == "colour" and node.outputs["Color"].is_linked
                   for node in shader), "the material's base colour comes from the 'colour' attribute")
 
+# The File > Import operator (registered as an add-on would be) on the first file.
+print("the operator import_scene.pfill_particles")
+bpy.ops.wm.read_factory_settings(use_empty=True)
+pfill_import.register()
+check(bpy.ops.import_scene.pfill_particles(filepath=files[0]) == {"FINISHED"}, "the operator finished")
+imported = [o for o in bpy.context.scene.objects if o.get("pfill_particles") == n]
+check(len(imported) == 1 and bpy.context.view_layer.objects.active == imported[0],
+      "it made one active object of all the particles")
+try:
+    bpy.ops.import_scene.pfill_particles(filepath=files[0] + ".missing.ply")
+    check(False, "a missing file should cancel the import with an error")
+except RuntimeError as e:
+    check("no such file" in str(e), f"a missing file is refused: {str(e).strip()}")
+pfill_import.unregister()
+
 print("blender pfill_import: " + ("all passed" if not failures else f"{len(failures)} FAILED"))
 sys.exit(1 if failures else 0)
