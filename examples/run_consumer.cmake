@@ -1,0 +1,20 @@
+# Script mode (ctest's package.consumer): installs the pfill build PFILL_BUILD
+# into WORK/prefix, configures CONSUMER_SOURCE against it with only
+# -DCMAKE_PREFIX_PATH, builds it and runs it. Any failing step fails the test.
+function(step what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc)
+  if(NOT rc EQUAL 0)
+    message(FATAL_ERROR "package.consumer: ${what} failed (${rc})")
+  endif()
+endfunction()
+
+file(REMOVE_RECURSE ${WORK})
+set(prefix ${WORK}/prefix)
+if(NOT CONFIG)
+  set(CONFIG Release)
+endif()
+step("cmake --install" ${CMAKE_COMMAND} --install ${PFILL_BUILD} --prefix ${prefix} --config ${CONFIG})
+step("configuring the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK}/build -G ${GENERATOR}
+     -DCMAKE_PREFIX_PATH=${prefix})
+step("building the consumer" ${CMAKE_COMMAND} --build ${WORK}/build)
+step("running the consumer" ${WORK}/build/pfill_consumer sphere 300)
