@@ -17,4 +17,8 @@ step("cmake --install" ${CMAKE_COMMAND} --install ${PFILL_BUILD} --prefix ${pref
 step("configuring the consumer" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK}/build -G ${GENERATOR}
      -DCMAKE_PREFIX_PATH=${prefix})
 step("building the consumer" ${CMAKE_COMMAND} --build ${WORK}/build)
-step("running the consumer" ${WORK}/build/pfill_consumer sphere 300)
+execute_process(COMMAND ${WORK}/build/pfill_consumer sphere 300 RESULT_VARIABLE rc OUTPUT_VARIABLE out)
+message("${out}")
+if(NOT rc EQUAL 0 OR NOT out MATCHES "with [1-9][0-9]* particles of radius")
+  message(FATAL_ERROR "package.consumer: the consumer did not fill the sphere (${rc})")
+endif()

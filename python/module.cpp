@@ -190,6 +190,12 @@ class Hooks {
 
   void report(const FillProgress& p) {
     if (pending_) return;
+    // A new phase at once, else at most ten calls a second (the fill
+    // reports at every sync).
+    const Clock::time_point now = Clock::now();
+    if (p.phase == last_phase_ && now - last_report_ < std::chrono::milliseconds(100)) return;
+    last_phase_ = p.phase;
+    last_report_ = now;
     py::gil_scoped_acquire gil;
     try {
       py::dict d;
@@ -212,6 +218,8 @@ class Hooks {
   std::exception_ptr pending_;
   bool user_cancelled_ = false;
   Clock::time_point last_poll_{};
+  std::string last_phase_;
+  Clock::time_point last_report_{};
 };
 
 PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count, std::optional<double> radius,
@@ -358,6 +366,8 @@ PYBIND11_MODULE(_pfill, m) {
   // pfill.Cancelled is raised when a `cancelled` callback asked to stop.
   static py::exception<Error> error(m, "Error", PyExc_RuntimeError);
   static py::exception<Cancelled> cancelled_error(m, "Cancelled", error.ptr());
+  error.attr("__module__") = "pfill";
+  cancelled_error.attr("__module__") = "pfill";
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
@@ -406,7 +416,8 @@ PYBIND11_MODULE(_pfill, m) {
         "count=4000 as on the command line. The same mesh, options, seed and device give the same "
         "particles as `pfill fill`.\n"
         "progress: called with a dict (phase, step, particles, target, kinetic_energy, colliding_pairs, "
-        "steps_per_second, elapsed, remaining); an exception it raises stops the fill.\n"
+        "steps_per_second, elapsed, remaining) at each new phase and up to ten times a second; an "
+        "exception it raises stops the fill.\n"
         "cancelled: called now and then; returning True stops the fill with pfill.Cancelled. "
         "Ctrl-C stops it with KeyboardInterrupt.\n"
         "Returns a FillResult (positions, radii, colours, velocities, metrics, report, radius).");
