@@ -1,28 +1,25 @@
-// The compiled part of the Python module `pfill` (pfill._pfill): meshes in
-// and particles out as numpy arrays, every fill option by its command-line
-// name, the GIL released while filling, Ctrl-C and progress through the
-// fill's hooks, pfill's errors as pfill.Error. python/pfill/__init__.py
-// re-exports it.
-#include <pybind11/functional.h>
+// The compiled part of the Python module `pfill` (pfill._pfill): fill,
+// check, load_mesh and devices, with every fill option by its command-line
+// name, the GIL released while filling, and pfill's errors as pfill.Error.
+// python/pfill/__init__.py re-exports it.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
-#include <chrono>
-#include <cstdio>
-#include <exception>
-#include <filesystem>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
+#include "arrays.hpp"
+#include "fill_hooks.hpp"
+#include "mesh_argument.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/device/device.hpp"
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/fill_report.hpp"
 #include "pfill/mesh_diagnostics.hpp"
-#include "pfill/mesh_io.hpp"
 #include "pfill/shapes.hpp"
 
 namespace py = pybind11;
@@ -30,196 +27,10 @@ namespace py = pybind11;
 namespace pfill::python {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using IndexArray = py::array_t<int64_t, py::array::c_style | py::array::forcecast>;
-
-// ---- numpy <-> pfill ----
-
-py::array_t<double> vec3_array(const std::vector<Vec3>& points) {
-  py::array_t<double> a({static_cast<py::ssize_t>(points.size()), py::ssize_t(3)});
-  auto v = a.mutable_unchecked<2>();
-  for (size_t i = 0; i < points.size(); ++i) {
-    v(i, 0) = points[i].x;
-    v(i, 1) = points[i].y;
-    v(i, 2) = points[i].z;
-  }
-  return a;
-}
-
-/// An (N, 3) array of `what`, as numbers; a one-line error otherwise.
-DoubleArray rows_of_three(const py::handle& object, const std::string& what) {
-  DoubleArray a;
-  try {
-    a = DoubleArray::ensure(object);
-  } catch (const py::error_already_set&) {
-  }
-  if (!a || a.ndim() != 2 || a.shape(1) != 3)
-    throw Error(what + ": give an (N, 3) array of numbers");
-  return a;
-}
-
-std::vector<Vec3> to_vec3(const DoubleArray& a) {
-  auto v = a.unchecked<2>();
-  std::vector<Vec3> out(static_cast<size_t>(a.shape(0)));
-  for (size_t i = 0; i < out.size(); ++i) out[i] = {v(i, 0), v(i, 1), v(i, 2)};
-  return out;
-}
-
-/// JSON from the library (fill_report.hpp) as Python dicts and lists.
-py::object to_python(const nlohmann::ordered_json& j) {
-  return py::module_::import("json").attr("loads")(j.dump());
-}
-
-// ---- meshes ----
-
-bool is_builtin_name(const std::string& name) {
-  for (const std::string& n : builtin_shape_names())
-    if (n == name) return true;
-  return false;
-}
-
-/// A path, a built-in shape name (when no such file exists, as in `pfill
-/// check`), or a (vertices, triangles) pair.
-Mesh mesh_from(const py::handle& object) {
-  if (py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__")) {
-    const std::string path = py::str(py::module_::import("os").attr("fspath")(object));
-    if (is_builtin_name(path) && !std::filesystem::exists(path)) return make_builtin(path);
-    py::gil_scoped_release release;
-    return load_mesh(path);
-  }
-  if (py::isinstance<py::sequence>(object) && py::len(object) == 2) {
-    const py::sequence pair = py::reinterpret_borrow<py::sequence>(object);
-    Mesh mesh;
-    mesh.source = "(vertices, triangles)";
-    mesh.positions = to_vec3(rows_of_three(pair[0], "mesh vertices"));
-    IndexArray t;
-    try {
-      t = IndexArray::ensure(pair[1]);
-    } catch (const py::error_already_set&) {
-    }
-    if (!t || t.ndim() != 2 || t.shape(1) != 3) throw Error("mesh triangles: give a (T, 3) array of vertex indices");
-    auto v = t.unchecked<2>();
-    const auto n = static_cast<int64_t>(mesh.positions.size());
-    mesh.triangles.resize(static_cast<size_t>(t.shape(0)));
-    for (size_t i = 0; i < mesh.triangles.size(); ++i)
-      for (int k = 0; k < 3; ++k) {
-        if (v(i, k) < 0 || v(i, k) >= n)
-          throw Error("mesh triangles: triangle " + std::to_string(i) + " names vertex " + std::to_string(v(i, k)) +
-                      ", but there are " + std::to_string(n) + " vertices (indices start at 0)");
-        mesh.triangles[i][k] = static_cast<uint32_t>(v(i, k));
-      }
-    weld_vertices(mesh);  // as the file loaders do: bit-identical duplicates
-    validate(mesh);
-    return mesh;
-  }
-  throw Error("mesh: give a file path, a built-in shape name or a (vertices, triangles) pair");
-}
-
-py::tuple load_mesh_arrays(const py::handle& path) {
-  const Mesh mesh = mesh_from(path);
-  py::array_t<int64_t> t({static_cast<py::ssize_t>(mesh.triangles.size()), py::ssize_t(3)});
-  auto v = t.mutable_unchecked<2>();
-  for (size_t i = 0; i < mesh.triangles.size(); ++i)
-    for (int k = 0; k < 3; ++k) v(i, k) = mesh.triangles[i][k];
-  return py::make_tuple(vec3_array(mesh.positions), t);
-}
-
-// ---- options ----
-
-/// Two numbers from a pair or the command line's "A,B" text.
-std::pair<double, double> number_pair(const py::handle& value, const std::string& what) {
-  if (py::isinstance<py::str>(value)) {
-    const std::string text = py::str(value);
-    double a = 0, b = 0;
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%lf,%lf%c", &a, &b, &extra) == 2) return {a, b};
-  } else if (py::isinstance<py::sequence>(value) && py::len(value) == 2) {
-    try {
-      const py::sequence s = py::reinterpret_borrow<py::sequence>(value);
-      return {s[0].cast<double>(), s[1].cast<double>()};
-    } catch (const py::cast_error&) {
-    }
-  }
-  throw Error(what + ": give two numbers, (A, B) or \"A,B\"");
-}
-
 struct PyFillResult {
   py::object positions, radii, colours, velocities, metrics, report;
   double radius = 0;
   size_t size = 0;
-};
-
-/// The Python side of the fill's hooks: progress calls and cancel polls
-/// take the GIL for a moment; a Python exception raised there (a
-/// KeyboardInterrupt from Ctrl-C, or the progress callback's own) stops the
-/// fill and is raised again once the fill has unwound.
-class Hooks {
- public:
-  Hooks(py::object progress, py::object cancelled) : progress_(std::move(progress)), cancelled_(std::move(cancelled)) {}
-
-  void attach(FillOptions& o) {
-    o.cancelled = [this] { return poll(); };
-    if (!progress_.is_none()) o.progress = [this](const FillProgress& p) { report(p); };
-  }
-
-  /// After the fill threw pfill::Cancelled: the Python error that caused
-  /// it, else pfill.Cancelled (the user's `cancelled` returned true).
-  [[noreturn]] void raise_cancelled() {
-    if (pending_) std::rethrow_exception(pending_);
-    throw Cancelled();
-  }
-
- private:
-  bool poll() {
-    if (pending_ || user_cancelled_) return true;
-    // Signals and the user's hook at most every 20 ms: a sync can be more
-    // often than that, and the GIL may be busy.
-    const Clock::time_point now = Clock::now();
-    if (now - last_poll_ < std::chrono::milliseconds(20)) return false;
-    last_poll_ = now;
-    py::gil_scoped_acquire gil;
-    try {
-      if (PyErr_CheckSignals() != 0) throw py::error_already_set();
-      if (!cancelled_.is_none() && py::bool_(cancelled_())) user_cancelled_ = true;
-    } catch (const py::error_already_set&) {
-      pending_ = std::current_exception();
-    }
-    return pending_ || user_cancelled_;
-  }
-
-  void report(const FillProgress& p) {
-    if (pending_) return;
-    // A new phase at once, else at most ten calls a second (the fill
-    // reports at every sync).
-    const Clock::time_point now = Clock::now();
-    if (p.phase == last_phase_ && now - last_report_ < std::chrono::milliseconds(100)) return;
-    last_phase_ = p.phase;
-    last_report_ = now;
-    py::gil_scoped_acquire gil;
-    try {
-      py::dict d;
-      d["phase"] = p.phase;
-      d["step"] = p.step;
-      d["particles"] = p.particles;
-      d["target"] = p.target;
-      d["kinetic_energy"] = p.kinetic_energy;
-      d["colliding_pairs"] = p.colliding_pairs;
-      d["steps_per_second"] = p.steps_per_second;
-      d["elapsed"] = p.elapsed;
-      d["remaining"] = p.remaining >= 0 ? py::object(py::float_(p.remaining)) : py::none();
-      progress_(d);
-    } catch (const py::error_already_set&) {
-      pending_ = std::current_exception();
-    }
-  }
-
-  py::object progress_, cancelled_;
-  std::exception_ptr pending_;
-  bool user_cancelled_ = false;
-  Clock::time_point last_poll_{};
-  std::string last_phase_;
-  Clock::time_point last_report_{};
 };
 
 PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count, std::optional<double> radius,
@@ -254,8 +65,11 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
   std::tie(o.birth_speed_min, o.birth_speed_max) = number_pair(birth_speed, "birth_speed");
   o.max_step_fraction = max_step;
   if (!birth.is_none()) {
-    const std::vector<Vec3> p = to_vec3(rows_of_three(py::make_tuple(birth), "birth"));
-    o.birth_point = p[0];
+    try {
+      o.birth_point = to_vec3(rows_of_three(py::make_tuple(birth), "birth"))[0];
+    } catch (const Error&) {
+      throw Error("birth: give three numbers (x, y, z), a point inside the mesh");
+    }
   }
   o.stop = parse_stop_criterion(stop);
   o.blocked.patience = patience;
@@ -268,7 +82,7 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
   o.device = device;
 
   const Mesh mesh = mesh_from(mesh_arg);
-  Hooks hooks(progress, cancelled);
+  FillHooks hooks(progress, cancelled);
   hooks.attach(o);
   FillResult r;
   bool was_cancelled = false;
@@ -281,6 +95,10 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
     }
   }
   if (was_cancelled) hooks.raise_cancelled();
+  // The command line prints these as "pfill: warning: ..." (an open or
+  // inside-out mesh, a coarsened field, colours it could not take).
+  for (const std::string& w : r.warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, ("pfill: " + w).c_str(), 1) != 0) throw py::error_already_set();
 
   const ParticleSet& ps = r.particles;
   PyFillResult out;

@@ -71,6 +71,16 @@ def test_fill_of_arrays_equals_the_fill_of_the_shape(sphere_fill):
     assert r.report["mesh"] == "(vertices, triangles)"
 
 
+def test_an_open_mesh_warns_and_a_colour_option_colours_every_particle():
+    vertices, triangles = pfill.load_mesh("cube")
+    top = np.all(vertices[triangles][:, :, 2] == 1.0, axis=1)
+    with pytest.warns(UserWarning, match="the mesh is open"):
+        r = pfill.fill((vertices, triangles[~top]), count=60, seed=2, colour="#ff8000")
+    assert r.colours.shape == (len(r), 3) and r.colours.dtype == np.uint8
+    assert np.all(r.colours == [255, 128, 0])
+    assert any("open" in w for w in r.report["warnings"])
+
+
 def test_load_mesh_reads_a_file_into_arrays(tmp_path):
     path = tmp_path / "tetra.obj"
     path.write_text("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n")
@@ -92,6 +102,8 @@ def test_errors_are_pfill_errors_with_the_command_lines_messages(tmp_path):
         pfill.fill("sphere", count=50, stop="never")
     with pytest.raises(pfill.Error, match="outside the mesh"):
         pfill.fill("sphere", count=50, birth=(5, 0, 0))
+    with pytest.raises(pfill.Error, match="three numbers"):
+        pfill.fill("sphere", count=50, birth=(5, 0))
     with pytest.raises(pfill.Error, match="A > B > 0"):
         pfill.fill("sphere", count=50, exponents=(6, 12))
     with pytest.raises(pfill.Error, match="names vertex 7"):
