@@ -27,6 +27,9 @@ def main():
         r = pfill.fill(mesh, count=count, seed=1, progress=show)
     except pfill.Error as e:  # one line naming the problem, as the command line prints it
         sys.exit(f"\nfill_spot: {e}")
+    except KeyboardInterrupt:  # Ctrl-C: the fill stopped at its next sync
+        print("\nfill_spot: cancelled; nothing written", file=sys.stderr)
+        sys.exit(130)
     print(file=sys.stderr)
     np.savetxt(out, np.column_stack([r.positions, r.radii]), fmt="%.9g")
     m = r.metrics

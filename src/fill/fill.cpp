@@ -120,6 +120,7 @@ class FillRun {
     so.band = std::max(3 * radius_, 4 * so.spacing);
     SdfStats stats;
     field_ = build_signed_distance_field(*boundary_, so, &stats);
+    throw_if_cancelled();  // the field can take seconds; the device's program build too
     result_.field_seconds = stats.seconds;
     result_.field_bytes = stats.bytes;
     result_.field_spacing = so.spacing;
