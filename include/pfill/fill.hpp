@@ -93,9 +93,9 @@ struct FillOptions {
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;
-  /// Polled at every host sync (every `sync_every` steps, each relief
-  /// round); when it returns true the fill throws pfill::Cancelled. For
-  /// Ctrl-C: it must be cheap and must not throw.
+  /// Polled once the distance field is built, then at every host sync
+  /// (every `sync_every` steps, each relief round); when it returns true
+  /// the fill throws pfill::Cancelled. For Ctrl-C: cheap, must not throw.
   std::function<bool()> cancelled;
 };
 
