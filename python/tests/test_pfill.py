@@ -143,6 +143,29 @@ def test_progress_is_reported_and_its_exceptions_stop_the_fill():
     assert phases[0] == "field" and "pass 1" in phases
 
 
+def test_other_threads_run_while_a_fill_runs():
+    ticks = []
+    done = threading.Event()
+
+    def tick():
+        while not done.is_set():
+            ticks.append(1)
+            done.wait(0.005)
+
+    thread = threading.Thread(target=tick)
+    thread.start()
+    try:
+        before = len(ticks)
+        pfill.fill("cube", count=60, seed=2)
+        during = len(ticks) - before
+    finally:
+        done.set()
+        thread.join()
+    # A fill of a second or more: a thread that waits 5 ms a tick ticks
+    # many times, where a held GIL would let it tick only at the polls.
+    assert during >= 20
+
+
 def test_ctrl_c_interrupts_a_fill():
     # SIGINT from another thread, as a terminal's Ctrl-C: the fill polls
     # Python's signal handlers while it runs without the GIL.
