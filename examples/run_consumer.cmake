@@ -1,14 +1,21 @@
-# Script mode (ctest's package.consumer): installs the pfill build PFILL_BUILD
-# into WORK/prefix, configures CONSUMER_SOURCE against it with only
-# -DCMAKE_PREFIX_PATH, builds it and runs it. Any failing step fails the test.
+# Script mode, for ctest. package.consumer (PFILL_BUILD given): installs the
+# pfill build PFILL_BUILD into WORK/prefix, configures CONSUMER_SOURCE against
+# it with only -DCMAKE_PREFIX_PATH, builds it and runs it.
+# package.add_subdirectory (PFILL_SOURCE given): configures CONSUMER_SOURCE
+# with pfill's sources added by add_subdirectory. Any failing step fails.
 function(step what)
   execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc)
   if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "package.consumer: ${what} failed (${rc})")
+    message(FATAL_ERROR "run_consumer: ${what} failed (${rc})")
   endif()
 endfunction()
 
 file(REMOVE_RECURSE ${WORK})
+if(PFILL_SOURCE)
+  step("configuring the consumer with add_subdirectory" ${CMAKE_COMMAND} -S ${CONSUMER_SOURCE} -B ${WORK}
+       -G ${GENERATOR} -DPFILL_SOURCE_DIR=${PFILL_SOURCE})
+  return()
+endif()
 set(prefix ${WORK}/prefix)
 if(NOT CONFIG)
   set(CONFIG Release)
