@@ -63,6 +63,24 @@ def test_fill_matches_the_command_line_with_the_same_options_and_seed(sphere_fil
     assert np.allclose(r.radii, particles[:, 3], rtol=1e-6)
 
 
+SHARED = os.environ.get("PFILL_SHARED_MESHES", "")
+
+
+@pytest.mark.skipif(not os.path.exists(os.path.join(SHARED, "spot_textured.glb")),
+                    reason="../shared/meshes is absent")
+def test_a_textured_mesh_gives_the_command_lines_colours(tmp_path):
+    mesh = os.path.join(SHARED, "spot_textured.glb")
+    subprocess.run([CLI, "fill", mesh, "-n", "200", "--seed", "1", "-q", "-o", str(tmp_path / "t.csv")],
+                   check=True, stdout=subprocess.DEVNULL)
+    cli = np.loadtxt(tmp_path / "t.csv", delimiter=",", skiprows=1)
+    r = pfill.fill(mesh, count=200, seed=1)
+    assert r.colours is not None and r.colours.dtype == np.uint8
+    assert len(r) == len(cli)
+    assert np.array_equal(r.colours, cli[:, 4:7].astype(np.uint8))
+    assert len(np.unique(r.colours, axis=0)) > 10  # the texture's colours, not one
+    assert np.allclose(r.positions, cli[:, :3], rtol=0, atol=1e-6)
+
+
 def test_fill_of_arrays_equals_the_fill_of_the_shape(sphere_fill):
     vertices, triangles = pfill.load_mesh("sphere")
     r = pfill.fill((vertices, triangles.astype(np.int32)), **OPTIONS)
