@@ -12,6 +12,7 @@ PACKAGES=(
   libassimp-dev
   libcli11-dev doctest-dev
   oclgrind
+  pybind11-dev python3-dev python3-numpy python3-pytest
 )
 
 # The Khronos glTF validator (an npm package) checks our GLB files in the

@@ -12,4 +12,11 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// A long job stopped because its caller asked (FillOptions::cancelled:
+/// Ctrl-C in the command line or in Python). Nothing was written.
+class Cancelled : public Error {
+ public:
+  Cancelled() : Error("cancelled") {}
+};
+
 }  // namespace pfill

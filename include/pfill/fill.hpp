@@ -93,6 +93,10 @@ struct FillOptions {
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;
+  /// Polled once the distance field is built, then at every host sync
+  /// (every `sync_every` steps, each relief round); when it returns true
+  /// the fill throws pfill::Cancelled. For Ctrl-C: cheap, must not throw.
+  std::function<bool()> cancelled;
 };
 
 struct PassStats {
@@ -128,7 +132,8 @@ struct FillResult {
 };
 
 /// Fills `mesh`. Throws pfill::Error with a one-line message for bad
-/// settings, a radius that does not fit, or a device that cannot hold it.
+/// settings, a radius that does not fit, or a device that cannot hold it;
+/// pfill::Cancelled when FillOptions::cancelled returns true.
 FillResult fill(const Mesh& mesh, const FillOptions& options);
 
 /// Radius that gives about `count` particles in `volume` for a physics fill.

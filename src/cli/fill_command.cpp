@@ -15,6 +15,7 @@
 #include "pfill/atomic_file.hpp"
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
+#include "pfill/fill_report.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/render.hpp"
@@ -108,37 +109,6 @@ void parse_exponents(const std::string& text, FillOptions& o) {
     throw Error("--exponents '" + text + "': give A,B with A > B > 0 (default 12,6)");
 }
 
-nlohmann::ordered_json report_json(const FillArgs& a, const Mesh& mesh, const FillResult& r) {
-  nlohmann::ordered_json passes = nlohmann::ordered_json::array();
-  for (const PassStats& p : r.passes) passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
-  nlohmann::ordered_json sites = nlohmann::ordered_json::array();
-  for (const BirthSite& s : r.sites)
-    sites.push_back({{"position", {s.position.x, s.position.y, s.position.z}}, {"depth", s.depth}});
-  return {{"mesh", mesh.source},
-          {"output", a.output},
-          {"radius", r.radius},
-          {"seed", a.options.seed},
-          {"device", r.device},
-          {"metrics", metrics_json(r.metrics)},
-          {"expected_count", r.expected},
-          {"max_parts", r.max_parts},
-          {"stop_signal", r.stop_signal},
-          {"stop_reason", r.stop_reason},
-          {"settle_reason", r.settle_reason},
-          {"lost_outside", r.lost_outside},
-          {"relief_removed", r.relief_removed},
-          {"relief_rounds", r.relief_rounds},
-          {"voids_filled", r.voids_filled},
-          {"containment_moved", r.containment.moved},
-          {"containment_removed", r.containment.removed},
-          {"passes", passes},
-          {"steps", r.steps},
-          {"seconds", r.seconds},
-          {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
-          {"sites", sites},
-          {"warnings", r.warnings}};
-}
-
 // Fails before a long fill, not after it, when an output cannot be written.
 void check_output_folder(const std::string& path, const char* what) {
   if (path.empty() || path == "-") return;  // "-": standard output
@@ -196,7 +166,7 @@ void run_fill(FillArgs& a) {
     ro.cut = parse_cut("z");
     write_png(render(r.particles, &mesh, ro), a.preview);
   }
-  const std::string report = report_json(a, mesh, r).dump(2) + "\n";
+  const std::string report = fill_report_json(r, mesh.source, a.options.seed, a.output).dump(2) + "\n";
   if (!a.report.empty() && a.report != "-")
     write_file_atomically(a.report, [&](AtomicFile& f) { f.write(report); });
   if (a.json || a.report == "-") {  // the JSON alone on stdout, for scripts

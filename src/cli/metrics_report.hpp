@@ -1,10 +1,10 @@
-// Printing and JSON of packing metrics, shared by `pfill fill` and `pfill check`.
+// Printing of packing metrics, shared by `pfill fill` and `pfill check`
+// (their JSON: pfill/fill_report.hpp).
 #pragma once
 #include <cstdio>
 
-#include <nlohmann/json.hpp>
-
 #include "cli/format.hpp"
+#include "pfill/fill_report.hpp"
 #include "pfill/packing_metrics.hpp"
 
 namespace pfill::cli {
@@ -19,20 +19,6 @@ inline void print_metrics(std::FILE* out, const PackingMetrics& m) {
   std::fprintf(out, "  overlaps         %s pairs; mean %.2f%%, largest %.2f%% of r\n",
                thousands(m.overlapping_pairs).c_str(), 100 * m.mean_overlap, 100 * m.max_overlap);
   std::fprintf(out, "  coordination     %.2f contacts per sphere\n", m.mean_coordination);
-}
-
-inline nlohmann::ordered_json metrics_json(const PackingMetrics& m) {
-  return {{"particles", m.count},
-          {"mesh_volume", m.mesh_volume},
-          {"packing_fraction", m.packing_fraction},
-          {"contained_share", m.contained_share},
-          {"containment_tolerance", m.containment_tolerance},
-          {"centres_outside", m.centres_outside},
-          {"max_penetration", m.max_penetration},
-          {"overlapping_pairs", m.overlapping_pairs},
-          {"mean_overlap", m.mean_overlap},
-          {"max_overlap", m.max_overlap},
-          {"mean_coordination", m.mean_coordination}};
 }
 
 }  // namespace pfill::cli

@@ -122,6 +122,7 @@ class FillRun {
     so.band = std::max(3 * radius_, 4 * so.spacing);
     SdfStats stats;
     field_ = build_signed_distance_field(*boundary_, so, &stats);
+    throw_if_cancelled();  // the field can take seconds; the device's program build too
     result_.field_seconds = stats.seconds;
     result_.field_bytes = stats.bytes;
     result_.field_spacing = so.spacing;
@@ -304,6 +305,7 @@ class FillRun {
   void relieve_overlaps() {
     Engine& relaxer = *relaxer_;
     for (int round = 0;; ++round) {
+      throw_if_cancelled();
       relaxer.run_steps(o_.relief_steps);
       relax_steps_ += o_.relief_steps;
       relaxer.read_history();
@@ -395,6 +397,7 @@ class FillRun {
   /// positions), removes flagged particles, reports progress.
   /// Returns, per step of the batch, whether a particle was born before it.
   std::vector<bool> run_batch(bool births) {
+    throw_if_cancelled();
     std::vector<bool> born(static_cast<size_t>(o_.sync_every), false);
     if (o_.sort_every > 0 && engine_->steps_done() >= next_sort_) renumber_along_cells();
     for (int s = 0; s < o_.sync_every; ++s) {
@@ -428,6 +431,11 @@ class FillRun {
     if (!history_.empty())
       report_particles(engine_->size(), history_.back().kinetic_energy, history_.back().colliding_pairs);
     return born;
+  }
+
+  /// The caller's cancel hook (FillOptions::cancelled), polled at each sync.
+  void throw_if_cancelled() const {
+    if (o_.cancelled && o_.cancelled()) throw Cancelled();
   }
 
   /// Centre distance at the potential's minimum: the spacing the user asked

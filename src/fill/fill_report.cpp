@@ -1,0 +1,52 @@
+// The JSON forms of a fill's figures (include/pfill/fill_report.hpp).
+#include "pfill/fill_report.hpp"
+
+namespace pfill {
+
+nlohmann::ordered_json metrics_json(const PackingMetrics& m) {
+  return {{"particles", m.count},
+          {"mesh_volume", m.mesh_volume},
+          {"packing_fraction", m.packing_fraction},
+          {"contained_share", m.contained_share},
+          {"containment_tolerance", m.containment_tolerance},
+          {"centres_outside", m.centres_outside},
+          {"max_penetration", m.max_penetration},
+          {"overlapping_pairs", m.overlapping_pairs},
+          {"mean_overlap", m.mean_overlap},
+          {"max_overlap", m.max_overlap},
+          {"mean_coordination", m.mean_coordination}};
+}
+
+nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& mesh, uint64_t seed,
+                                        const std::string& output) {
+  nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+  for (const PassStats& p : r.passes) passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+  nlohmann::ordered_json sites = nlohmann::ordered_json::array();
+  for (const BirthSite& s : r.sites)
+    sites.push_back({{"position", {s.position.x, s.position.y, s.position.z}}, {"depth", s.depth}});
+  return {{"mesh", mesh},
+          {"output", output},
+          {"radius", r.radius},
+          {"seed", seed},
+          {"device", r.device},
+          {"metrics", metrics_json(r.metrics)},
+          {"expected_count", r.expected},
+          {"max_parts", r.max_parts},
+          {"stop_signal", r.stop_signal},
+          {"stop_reason", r.stop_reason},
+          {"settle_reason", r.settle_reason},
+          {"lost_outside", r.lost_outside},
+          {"relief_removed", r.relief_removed},
+          {"relief_rounds", r.relief_rounds},
+          {"voids_filled", r.voids_filled},
+          {"containment_moved", r.containment.moved},
+          {"containment_removed", r.containment.removed},
+          {"passes", passes},
+          {"steps", r.steps},
+          {"seconds", r.seconds},
+          {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
+          {"sites", sites},
+          {"warnings", r.warnings}};
+}
+
+}  // namespace pfill
