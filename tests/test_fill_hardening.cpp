@@ -5,6 +5,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <string>
 
 #include "bad_meshes.hpp"
 #include "pfill/error.hpp"
@@ -134,4 +135,23 @@ TEST_CASE("options that would make a fill endless or empty are refused before it
   o = {};
   o.max_step_fraction = 1e-9;
   refused(o, "--max-step");
+}
+
+TEST_CASE("a radius too large for the mesh: the real depth, and the way out for -r") {
+  FillOptions o;
+  o.radius = 5;
+  try {
+    fill(make_icosphere(1.0, 3), o);
+    FAIL("a radius of 5 fitted a unit ball");
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    CAPTURE(message);
+    const size_t at = message.find("the deepest point is about ");
+    REQUIRE(at != std::string::npos);
+    const double depth = std::stod(message.substr(at + 27));
+    CHECK(depth > 0.9);
+    CHECK(depth < 1.01);
+    CHECK(message.find("choose a radius below") != std::string::npos);
+    CHECK(message.find("count") == std::string::npos);
+  }
 }
