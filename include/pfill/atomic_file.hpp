@@ -41,7 +41,14 @@ class AtomicFile {
   std::filesystem::path temporary_;
   std::FILE* file_ = nullptr;
   bool committed_ = false;
+  int registry_slot_ = -1;  ///< its entry in the list a signal handler cleans up
 };
+
+/// Installs handlers for SIGINT, SIGTERM and SIGHUP that remove every
+/// temporary file an AtomicFile is writing at that moment (async-signal-safe:
+/// unlink only), then let the signal end the process as it would have.
+/// Programs call it once at start; a library must not.
+void remove_temporary_files_on_signals();
 
 /// Opens an AtomicFile for `target`, lets `fill` write into it and commits;
 /// if `fill` throws, the temporary file is removed, any existing target is

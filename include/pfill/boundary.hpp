@@ -8,13 +8,23 @@
 /// Queries are const and safe to call from many threads at once.
 ///
 /// Conventions:
-/// - inside(p) is ray parity along several fixed, well-spread directions
-///   (BoundaryOptions::parity_rays, odd), majority vote. Hits are collected
+/// - inside(p) is a majority vote of rays along several fixed, well-spread
+///   directions (BoundaryOptions::parity_rays, odd). On a closed mesh (every
+///   edge walked once each way) a ray says inside when the winding number,
+///   its signed crossings, is non-zero: intersecting or nested closed parts
+///   count as their union. Elsewhere (open or inconsistently oriented
+///   meshes) it says inside on an odd number of crossings (parity ignores
+///   the orientation; on a mesh with small holes the majority still gives
+///   the right answer away from the holes). Hits are collected
 ///   along the whole ray and deduplicated per triangle; a ray that passes
 ///   within rounding of an edge or vertex is re-cast in a perturbed direction,
-///   so edge and vertex hits are never double counted. Parity ignores the
-///   orientation, so inside-out meshes work; on a mesh with small holes the
-///   majority still gives the right answer away from the holes.
+///   so edge and vertex hits are never double counted. Inside-out meshes
+///   are read with their orientation reversed.
+/// - Where closed parts overlap (overlapping()), each an outward solid,
+///   distances are the union's (union_of_parts()): the smallest of the
+///   parts' signed distances, so the surfaces inside other parts are no
+///   walls. On a surface that passes through itself the signs come from
+///   inside(), not from pseudonormals.
 /// - signed_distance(p) = -distance inside, +distance outside (sign from
 ///   inside()).
 /// - ClosestPoint::normal is a unit vector pointing out of the solid
@@ -99,6 +109,11 @@ class Boundary {
   /// True when every edge has exactly two triangles that traverse it in
   /// opposite directions (closed, manifold, consistently oriented).
   bool closed() const;
+  /// Some region is enclosed twice (parts intersect or nest, or the surface
+  /// passes through itself); decided by a winding sweep on closed meshes.
+  bool overlapping() const;
+  /// Distances are those of the union of overlapping closed parts.
+  bool union_of_parts() const;
 
  private:
   struct Impl;

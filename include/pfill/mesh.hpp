@@ -17,6 +17,11 @@
 namespace pfill {
 
 using Triangle = std::array<uint32_t, 3>;
+
+/// The largest |coordinate| pfill accepts, in meshes and particle files.
+/// Embree computes in single precision and aborts beyond about 1.8e18; this
+/// leaves room for the rays and boxes built around the points.
+constexpr double kMaxCoordinate = 1e15;
 using Rgba = std::array<float, 4>;  ///< colour, components in [0, 1]
 using Uv = std::array<float, 2>;
 
@@ -74,13 +79,19 @@ struct Mesh {
 /// Returns the number of vertices removed.
 size_t weld_vertices(Mesh& mesh, double tolerance = 0.0);
 
+/// Removes repeated faces (the same three vertices): a repeat wound the same
+/// way is dropped, and a pair wound opposite ways (a sheet of no
+/// thickness) goes altogether, so ray crossings and the winding number
+/// count each face once. Returns the number of triangles removed.
+size_t remove_duplicate_triangles(Mesh& mesh);
+
 /// Reverses the winding of every triangle (and its corner attributes), for
 /// meshes found to be inside-out.
 void flip_orientation(Mesh& mesh);
 
 /// Throws pfill::Error naming `mesh.source` if the mesh has no triangles, an
-/// index out of range, a non-finite coordinate, or attribute arrays of the
-/// wrong length.
+/// index out of range, a non-finite coordinate or one beyond kMaxCoordinate,
+/// or attribute arrays of the wrong length.
 void validate(const Mesh& mesh);
 
 }  // namespace pfill

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pfill/mesh.hpp"
+#include "pfill/winding_sweep.hpp"
 
 namespace pfill {
 
@@ -28,10 +29,22 @@ struct MeshDiagnostics {
   double signed_volume = 0;
   double surface_area = 0;
   std::optional<int> genus;       ///< total genus; only for closed, manifold meshes
+  /// The winding number along a grid of rays; only for closed meshes whose
+  /// every edge is walked as often each way (edges_balanced). Says whether
+  /// parts overlap and the union's volume.
+  std::optional<WindingSweep> winding;
 
   bool watertight() const { return boundary_edges == 0 && non_manifold_edges == 0; }
   bool inside_out() const { return signed_volume < 0; }
-  double volume() const { return signed_volume < 0 ? -signed_volume : signed_volume; }
+  /// Some region is enclosed twice: intersecting or nested parts, or a
+  /// surface that passes through itself.
+  bool overlapping() const { return winding && winding->overlapping(); }
+  /// The solid's volume: where parts overlap, the union's (from the winding
+  /// sweep), not the sum of the parts'.
+  double volume() const {
+    if (overlapping()) return winding->volume;
+    return signed_volume < 0 ? -signed_volume : signed_volume;
+  }
 };
 
 MeshDiagnostics diagnose(const Mesh& mesh);

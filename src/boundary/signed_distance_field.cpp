@@ -299,15 +299,18 @@ ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOption
   for (int a = 0; a < 3; ++a) {
     const double cells = std::ceil((box.size()[a] + 2 * margin) / h - 1e-9);
     if (!(cells < 1 << 30))
-      throw Error("signed distance field: the spacing " + std::to_string(h) +
-                  " is far too small for the mesh; choose a larger spacing");
+      throw Error("the mesh spans " + std::to_string(box.size()[a]) + " along " + "xyz"[a] +
+                  ", more than 2^30 cells of the distance field (" + std::to_string(h) +
+                  " each, from the particle radius): is a vertex far from the rest? check the bounds with "
+                  "`pfill info`, or choose a larger radius");
     grid.dims[a] = std::max(2, static_cast<int>(cells) + 1);
     samples *= grid.dims[a];
   }
   if (samples > static_cast<double>(options.max_samples))
     throw Error("signed distance field: " + std::to_string(grid.dims[0]) + " x " + std::to_string(grid.dims[1]) +
                 " x " + std::to_string(grid.dims[2]) + " samples exceed the limit of " +
-                std::to_string(options.max_samples) + "; choose a larger spacing");
+                std::to_string(options.max_samples) + "; choose a larger spacing (in a fill: a larger particle "
+                "radius), or check the mesh's bounds with `pfill info` for a vertex far from the rest");
   const Vec3 centre = box.centre();
   for (int a = 0; a < 3; ++a) grid.origin[a] = centre[a] - 0.5 * (grid.dims[a] - 1) * h;
   grid.values.assign(static_cast<size_t>(samples), 0.0f);

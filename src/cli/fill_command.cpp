@@ -12,6 +12,8 @@
 #include "cli/format.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
+#include "cli/number_checks.hpp"
+#include "cli/path_checks.hpp"
 #include "pfill/atomic_file.hpp"
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
@@ -121,9 +123,11 @@ void check_output_folder(const std::string& path, const char* what) {
 
 void run_fill(FillArgs& a) {
   const bool from_file = !a.mesh.empty();
-  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
+  refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}},
+                        {"--frames", a.frames});
+  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
   check_output_folder(a.output, "the output");
   particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
   ParticleWriteOptions wo;
@@ -204,8 +208,9 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("-o,--output", a->output,
                   "Output file; format from the extension: .ply .glb .csv .vtp, .data (LAMMPS read_data, "
                   "atom_style sphere), .xyzr (Yade ymport.text) (default NAME_particles.ply here)");
-  cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units");
-  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius, allowing for --rest-distance; default 4000)");
+  cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units")->check(positive_number());
+  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius, allowing for --rest-distance; default 4000)")
+      ->check(whole_number(1, SIZE_MAX));
   cmd->add_option("--rest-distance", o.rest_distance,
                   "Rest distance of the potential in contact distances 2r (>= 1; larger = sparser)")
       ->capture_default_str();
@@ -221,6 +226,7 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--time-step", o.time_step, "Time step in units of the potential's time scale tau")
       ->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
+      ->check(whole_number(0, UINT64_MAX))
       ->capture_default_str();
   cmd->add_option("--sites", o.sites, "Birth sites: the deepest point, then far deep points")->capture_default_str();
   cmd->add_option("--site-depth", o.site_depth_share,
@@ -259,7 +265,9 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_flag("--json", a->json, "Print the summary as JSON (the --report document) on standard output");
   cmd->add_option("--preview", a->preview, "Render the result, cut open, to this PNG");
   cmd->add_option("--frames", a->frames, "Write the fill as numbered PLY frames into this folder");
-  cmd->add_option("--every", a->frame_every, "Steps between frames")->capture_default_str();
+  cmd->add_option("--every", a->frame_every, "Steps between frames")
+      ->check(whole_number(1, UINT64_MAX))
+      ->capture_default_str();
   cmd->add_flag("--spheres", a->spheres, "GLB: an instanced low-poly sphere per particle");
   cmd->add_flag("--velocities", a->velocities,
                 "Write each particle's last velocity (PLY/CSV vx vy vz, VTP velocity, GLB _VELOCITY, LAMMPS "
@@ -274,7 +282,13 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
-  cmd->callback([a]() { run_fill(*a); });
+  cmd->callback([a, cmd]() {
+    if (!a->mesh.empty() && cmd->count("--builtin") > 0)
+      throw Error("give a mesh file or --builtin NAME, not both");
+    if (cmd->count("--radius") > 0 && cmd->count("--count") > 0)
+      throw Error("give -r (the radius) or -n (a count, which picks the radius), not both");
+    run_fill(*a);
+  });
   return cmd;
 }
 

@@ -1,4 +1,5 @@
 // `pfill info MESH`: what a mesh is made of and whether it can be filled.
+#include <cmath>
 #include <iostream>
 
 #include <nlohmann/json.hpp>
@@ -39,6 +40,12 @@ std::vector<std::string> warnings(const MeshDiagnostics& d) {
     w.push_back(thousands(d.misoriented_edges) +
                 " edges join triangles of opposite winding: the volume is unreliable; a fill uses ray parity, "
                 "which does not depend on winding");
+  if (d.overlapping())
+    w.push_back(std::string(d.components > 1 ? "parts intersect or lie inside one another" : "the surface intersects itself") +
+                " (some region is enclosed " + (d.winding->min_winding < 0 ? "inside out" : "twice") +
+                "): a fill fills the union, inside = a non-zero winding number; the volume given is the "
+                "union's, estimated along " + thousands(d.winding->rays) + " rays (the parts' volumes sum to " +
+                num(std::fabs(d.signed_volume)) + ")");
   if (d.degenerate_triangles > 0)
     w.push_back(thousands(d.degenerate_triangles) + " degenerate (zero-area) triangles: harmless for a fill");
   return w;
@@ -62,6 +69,7 @@ nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d
       {"non_manifold_edges", d.non_manifold_edges},
       {"misoriented_edges", d.misoriented_edges},
       {"watertight", d.watertight()},
+      {"parts_overlap", d.overlapping()},
       {"degenerate_triangles", d.degenerate_triangles},
       {"signed_volume", d.signed_volume},
       {"volume", d.volume()},
@@ -90,6 +98,9 @@ void print_text(const std::string& name, const MeshDiagnostics& d) {
                                                  thousands(d.boundary_loops) + " holes, " +
                                                  thousands(d.non_manifold_edges) + " non-manifold edges");
   row("degenerate", thousands(d.degenerate_triangles) + " triangles");
+  if (d.overlapping())
+    row("overlap", d.components > 1 ? "parts intersect (the volume is their union's)"
+                                    : "the surface intersects itself (the volume is what it encloses)");
   row("volume", num(d.volume()) + (d.inside_out() ? "  (inside-out: negative signed volume)" : "  (outward oriented)") +
                     (d.boundary_loops ? "  estimated with the holes capped" : ""));
   row("area", num(d.surface_area));

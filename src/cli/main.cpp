@@ -8,9 +8,11 @@
 #include <CLI/CLI.hpp>
 
 #include "cli/commands.hpp"
+#include "pfill/atomic_file.hpp"
 #include "pfill/error.hpp"
 
 int main(int argc, char** argv) {
+  pfill::remove_temporary_files_on_signals();  // Ctrl-C while writing leaves no hidden file
   CLI::App app{"pfill: fill a closed triangle mesh with densely packed spherical particles.\n"
                "Run `pfill` alone to fill a built-in torus, or `pfill fill MESH -o out.ply`."};
   app.set_version_flag("--version", "pfill 0.1.0");

@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/mesh_argument.hpp"
+#include "cli/path_checks.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/colour.hpp"
 #include "pfill/mesh_io.hpp"
@@ -179,6 +180,8 @@ void add_render_command(CLI::App& app) {
     if (!args->cut.empty()) options.cut = parse_cut(args->cut);
     options.samples_per_axis = args->samples;
     options.ambient_occlusion_rays = args->ao_rays;
+    if (!fs::is_directory(args->input))
+      cli::refuse_clashing_paths({{"the particle file", args->input}, {"--mesh", args->mesh}}, {{"-o", args->output}});
     const std::optional<Mesh> shell = load_shell(args->mesh);
     const Mesh* shell_pointer = shell ? &*shell : nullptr;
     if (fs::is_directory(args->input))

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <deque>
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "pfill/boundary.hpp"
@@ -190,6 +191,32 @@ class FillRun {
     need(o_.time_step > 0 && o_.time_step <= 0.05, "--time-step must be in (0, 0.05] tau");
     need(o_.sync_every >= 1 && o_.sync_every <= 1000, "sync_every must be 1..1000");
     need(o_.sort_every >= 0, "sort_every must be >= 0 (0: never)");
+    // Bounds that keep every pass finite: a site that always has room, a
+    // patience of nothing, a vanishing step or speed would make a fill
+    // endless or empty.
+    need(o_.birth_clearance >= 0.25 && o_.birth_clearance <= 4,
+         "--birth-clearance must be in [0.25, 4] rest distances (default 0.5); below that a site never "
+         "fills up and births go on without end");
+    need(o_.blocked.patience >= std::max(100, 10 * o_.birth_every) && o_.blocked.patience <= 10'000'000,
+         "--patience must be at least 100 steps and 10 birth intervals (--birth-every), at most 10,000,000 "
+         "(default 1500)");
+    need(o_.birth_every <= 1000, "--birth-every must be 1..1000");
+    need(o_.site_depth_share >= 0 && o_.site_depth_share <= 1,
+         "--site-depth must be in [0, 1] (a share of the deepest point's depth)");
+    need(o_.void_rounds >= 0 && o_.void_rounds <= 100, "--void-rounds must be 0..100");
+    need(o_.void_clearance > 0 && o_.void_clearance <= 4, "--void-clearance must be in (0, 4] rest distances");
+    need(o_.time_step >= 1e-4, "--time-step must be at least 0.0001 tau (smaller steps never finish)");
+    need(o_.max_step_fraction >= 1e-3 && o_.max_step_fraction <= 1, "--max-step must be in [0.001, 1] sigma");
+    need(o_.rest_distance <= 10, "--rest-distance must be 1..10");
+    need(std::isfinite(o_.epsilon) && o_.epsilon > 0, "--epsilon must be a positive number");
+    need(o_.cutoff == 0 || (o_.cutoff > 1 && o_.cutoff <= 5), "--cutoff must be 0 (purely repulsive) or in (1, 5] sigma");
+    need(o_.restitution >= 0 && o_.restitution <= 1 && o_.wall_restitution >= 0 && o_.wall_restitution <= 1,
+         "--restitution and --wall-restitution must be in [0, 1]");
+    need(std::isfinite(o_.damping) && o_.damping >= 0, "--damping must be >= 0");
+    need(o_.skin >= 0 && o_.skin <= 5, "--skin must be in [0, 5] sigma (0: automatic)");
+    need(o_.top_up_patience >= 1 && o_.relief_steps >= 1 && o_.max_relief_rounds >= 0 &&
+             o_.max_relief_rounds <= 10'000 && o_.rest_steps >= 1 && o_.rest_speed > 0,
+         "the settling and relief settings must be positive");
   }
 
   // ---- pass 1: births until the object is overfull ----
@@ -589,9 +616,80 @@ double fill_radius_for_count(double volume, size_t count) {
   return std::cbrt(3.0 * kExpectedPacking * volume / (4.0 * kPi * static_cast<double>(count)));
 }
 
+namespace {
+
+// "No particle fits", with the mesh's depth measured on a field of 64
+// samples across, and the way out that fits the options given.
+std::string no_room_message(const Mesh& mesh, const FillOptions& o) {
+  const double volume = diagnose(mesh).volume();
+  const double radius = o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+  const Boundary boundary(mesh);
+  SdfOptions so(spacing_for_resolution(mesh.bounds(), 64));
+  so.band = std::numeric_limits<double>::infinity();
+  const ScalarGrid field = build_signed_distance_field(boundary, so);
+  double deepest = 0;
+  for (float v : field.values) deepest = std::max(deepest, -static_cast<double>(v));
+  return "no particle of radius " + fmt(radius) + " fits: the deepest point is about " + fmt(deepest) +
+         " from the surface; " +
+         (o.radius > 0 ? "choose a radius below " + fmt(deepest) : std::string("ask for more particles (-n)"));
+}
+
+}  // namespace
+
 FillResult fill(const Mesh& mesh, const FillOptions& options) {
-  FillRun run(mesh, options);
-  return run.run();
+  // The engine holds positions in single precision: far from the origin
+  // they would lose their digits (spot moved by 1e6 filled at a packing of
+  // 0.28). The run works in coordinates centred on the mesh's box, and
+  // everything it returns is moved back into the mesh's own.
+  const Vec3 centre = mesh.bounds().centre();
+  Mesh local = mesh;
+  for (Vec3& p : local.positions) p -= centre;
+  remove_duplicate_triangles(local);  // a repeated face would count twice along a ray
+  FillOptions o = options;
+  if (o.birth_point) o.birth_point = *o.birth_point - centre;
+  if (options.on_frame)
+    o.on_frame = [&options, centre](uint64_t step, const ParticleSet& s) {
+      ParticleSet moved = s;
+      for (Vec3& p : moved.positions) p += centre;
+      options.on_frame(step, moved);
+    };
+  FillRun run(local, o);
+  FillResult result;
+  try {
+    result = run.run();
+  } catch (const Error& e) {
+    // The run's field is as coarse as the radius is large: measure the
+    // depth on a fine field before saying that no particle fits.
+    if (std::string(e.what()).rfind("no particle of radius", 0) != 0) throw;
+    throw Error(no_room_message(local, o));
+  }
+  for (Vec3& p : result.particles.positions) p += centre;
+  for (BirthSite& site : result.sites) site.position += centre;
+
+  const std::string name = mesh.source.empty() ? std::string("the mesh") : mesh.source;
+  const MeshDiagnostics d = diagnose(local);
+  if (d.overlapping())
+    result.warnings.push_back(
+        std::string(d.components > 1 ? "parts of the mesh intersect or lie inside one another"
+                                     : "the surface intersects itself") +
+        ": filled as the union of what it encloses (inside = a non-zero winding number); the volume " + fmt(d.volume()) +
+        " is the union's, estimated by rays" +
+        (d.components > 1 ? "" : ", and its inner surfaces act as walls; repair the mesh for a clean fill"));
+
+  // A fill that ends empty or far short of its estimate is not a result.
+  if (result.particles.size() == 0)
+    throw Error(name + ": the fill ended with no particles (" + std::to_string(result.lost_outside) +
+                " left through the surface); check the mesh with `pfill info` (open, self-intersecting or "
+                "too thin for the radius?)");
+  if (result.expected > 0 && result.particles.size() * 4 < result.expected)
+    result.warnings.push_back("only " + std::to_string(result.particles.size()) + " particles of the ~" +
+                              std::to_string(result.expected) + " expected: the mesh may be thinner than the "
+                              "radius allows, open or self-intersecting (see `pfill info`)");
+  if (result.lost_outside > 2 * std::max<size_t>(result.expected, 1))
+    result.warnings.push_back(std::to_string(result.lost_outside) +
+                              " particles left through the surface and were removed, more than twice the "
+                              "count: the surface has holes or intersects itself (see `pfill info`)");
+  return result;
 }
 
 }  // namespace pfill

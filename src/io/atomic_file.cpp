@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <csignal>
 #include <cstring>
 #include <system_error>
 
@@ -20,6 +21,42 @@ namespace pfill {
 namespace {
 
 std::atomic<unsigned> temporary_counter{0};
+
+// Temporary files being written, for the signal handler to remove: fixed
+// slots of plain chars, since a handler may neither allocate nor lock. A
+// slot is claimed by a compare-and-swap on `state` (0 free, 1 filling,
+// 2 live); the handler unlinks only live slots.
+constexpr int kTemporarySlots = 32;
+constexpr size_t kTemporaryPathBytes = 4096;
+struct TemporarySlot {
+  std::atomic<int> state{0};
+  char path[kTemporaryPathBytes];
+};
+TemporarySlot temporary_slots[kTemporarySlots];
+
+int register_temporary(const fs::path& path) {
+  const std::string text = path.string();
+  if (text.size() >= kTemporaryPathBytes) return -1;
+  for (int i = 0; i < kTemporarySlots; ++i) {
+    int expected = 0;
+    if (!temporary_slots[i].state.compare_exchange_strong(expected, 1)) continue;
+    std::memcpy(temporary_slots[i].path, text.c_str(), text.size() + 1);
+    temporary_slots[i].state.store(2);
+    return i;
+  }
+  return -1;  // more files open at once than slots: that one is not cleaned on a signal
+}
+
+void unregister_temporary(int slot) {
+  if (slot >= 0) temporary_slots[slot].state.store(0);
+}
+
+extern "C" void remove_temporaries_and_reraise(int signal_number) {
+  for (TemporarySlot& slot : temporary_slots)
+    if (slot.state.load() == 2) ::unlink(slot.path);  // async-signal-safe
+  std::signal(signal_number, SIG_DFL);
+  std::raise(signal_number);  // die of the signal, as the caller expects
+}
 
 fs::path folder_of(const fs::path& target) {
   const fs::path parent = target.parent_path();
@@ -42,8 +79,14 @@ AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
     temporary_ = folder / ("." + target_.filename().string() + ".tmp" +
                            std::to_string(::getpid()) + "-" +
                            std::to_string(temporary_counter.fetch_add(1)));
+    // Listed before it exists, so that no signal can leave it behind.
+    registry_slot_ = register_temporary(temporary_);
     const int fd = ::open(temporary_.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
     if (fd < 0) {
+      const int error = errno;
+      unregister_temporary(registry_slot_);
+      registry_slot_ = -1;
+      errno = error;
       if (errno == EEXIST) continue;
       const std::string reason = std::strerror(errno);
       temporary_.clear();
@@ -75,6 +118,8 @@ void AtomicFile::discard() noexcept {
     std::error_code ec;
     fs::remove(temporary_, ec);
   }
+  unregister_temporary(registry_slot_);
+  registry_slot_ = -1;
 }
 
 void AtomicFile::fail(const std::string& reason) {
@@ -100,6 +145,16 @@ void AtomicFile::commit() {
   fs::rename(temporary_, target_, ec);
   if (ec) fail("cannot rename the temporary file into place: " + ec.message());
   committed_ = true;
+  unregister_temporary(registry_slot_);
+  registry_slot_ = -1;
+}
+
+void remove_temporary_files_on_signals() {
+  struct sigaction action {};
+  action.sa_handler = remove_temporaries_and_reraise;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESETHAND;
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signal_number, &action, nullptr);
 }
 
 void write_file_atomically(const fs::path& target, const std::function<void(AtomicFile&)>& fill) {

@@ -70,7 +70,7 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
   };
   const int x = column({"x"}), y = column({"y"}), z = column({"z"});
   if (x < 0 || y < 0 || z < 0)
-    fail("the header '" + line + "' lacks x, y or z (the first line must name the columns)");
+    fail("the header '" + excerpt(line) + "' lacks x, y or z (the first line must name the columns)");
   const int radius = column({"radius", "pscale"});  // pscale, cd.*, v.*: --attribute-names houdini
   if (radius < 0 && !(options.default_radius > 0))
     fail("there is no 'radius' column: give a default radius (e.g. --radius R)");
@@ -94,7 +94,7 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
       char* end = nullptr;
       const double v = std::strtod(text.c_str(), &end);
       if (text.empty() || *end != '\0')
-        fail("line " + std::to_string(line_number) + ": '" + text + "' in column '" + header[k] +
+        fail("line " + std::to_string(line_number) + ": '" + excerpt(text) + "' in column '" + excerpt(header[k]) +
              "' is not a number");
       return v;
     };
@@ -106,7 +106,7 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
       for (int k = 0; k < 3; ++k) {
         const double v = number(columns[k]) * colour_scale;
         if (!(v >= 0 && v <= 255))
-          fail("line " + std::to_string(line_number) + ": colour " + fields[columns[k]] +
+          fail("line " + std::to_string(line_number) + ": colour " + excerpt(fields[columns[k]]) +
                " is outside 0..255");
         c[k] = static_cast<uint8_t>(std::lround(v));
       }

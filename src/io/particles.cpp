@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "pfill/error.hpp"
+#include "pfill/mesh.hpp"  // kMaxCoordinate
 
 namespace pfill {
 
@@ -36,8 +37,11 @@ void validate(const ParticleSet& particles, const std::string& source) {
   for (size_t i = 0; i < n; ++i) {
     if (!is_finite(particles.positions[i]))
       fail("particle " + std::to_string(i) + " has a non-finite position");
+    for (int k = 0; k < 3; ++k)
+      if (std::fabs(particles.positions[i][k]) > kMaxCoordinate)
+        fail("particle " + std::to_string(i) + " has a coordinate beyond the +-1e15 pfill computes with");
     const double r = particles.radii[i];
-    if (!std::isfinite(r) || !(r > 0))
+    if (!std::isfinite(r) || !(r > 0) || r > kMaxCoordinate)
       fail("particle " + std::to_string(i) + " has radius " + std::to_string(r) + " (must be > 0)");
     if (!particles.velocities.empty() && !is_finite(particles.velocities[i]))
       fail("particle " + std::to_string(i) + " has a non-finite velocity");

@@ -123,14 +123,14 @@ class PlyParser {
         if (format == "ascii") encoding_ = PlyEncoding::Ascii;
         else if (format == "binary_little_endian") encoding_ = PlyEncoding::BinaryLittle;
         else if (format == "binary_big_endian") encoding_ = PlyEncoding::BinaryBig;
-        else fail("unknown format '" + format + "'");
+        else fail("unknown format '" + excerpt(format) + "'");
         saw_format = true;
       } else if (keyword == "element") {
         PlyElement element;
         long double count = -1;
         words >> element.name >> count;
         if (!words || count < 0 || count > 1e15L)
-          fail("bad element line " + std::to_string(line_number) + ": '" + line + "'");
+          fail("bad element line " + std::to_string(line_number) + ": '" + excerpt(line) + "'");
         element.count = static_cast<uint64_t>(count);
         elements_.push_back(element);
       } else if (keyword == "property") {
@@ -144,16 +144,16 @@ class PlyParser {
           property.is_list = true;
           if (!parse_scalar_type(count_type, property.count_type) ||
               !parse_scalar_type(item_type, property.type))
-            fail("bad list property on line " + std::to_string(line_number) + ": '" + line + "'");
+            fail("bad list property on line " + std::to_string(line_number) + ": '" + excerpt(line) + "'");
         } else {
           words >> property.name;
           if (!parse_scalar_type(type, property.type))
-            fail("unknown property type '" + type + "' on line " + std::to_string(line_number));
+            fail("unknown property type '" + excerpt(type) + "' on line " + std::to_string(line_number));
         }
         if (property.name.empty()) fail("a property without a name on line " + std::to_string(line_number));
         elements_.back().properties.push_back(property);
       } else {
-        fail("unexpected header line " + std::to_string(line_number) + ": '" + line + "'");
+        fail("unexpected header line " + std::to_string(line_number) + ": '" + excerpt(line) + "'");
       }
     }
     if (!saw_format) fail("the header has no 'format' line");

@@ -1,7 +1,9 @@
 // Reader of OBJ, STL, PLY, OFF, FBX, DAE, 3DS and every other format assimp
 // imports: triangulated by assimp, node transforms applied here, all meshes
 // merged into one pfill::Mesh.
+#include <assimp/DefaultIOSystem.h>
 #include <assimp/DefaultLogger.hpp>
+#include <assimp/MemoryIOWrapper.h>
 #include <assimp/Importer.hpp>
 #include <assimp/LogStream.hpp>
 #include <assimp/material.h>
@@ -69,6 +71,21 @@ class ImportErrorLog : public Assimp::LogStream {
   std::vector<std::string> messages_;
 };
 
+// Serves one file from memory (an OBJ with its vertices shifted) and every
+// other one (its .mtl, textures) from disk.
+class ShiftedFileSystem : public Assimp::DefaultIOSystem {
+ public:
+  ShiftedFileSystem(std::string path, std::string text) : path_(std::move(path)), text_(std::move(text)) {}
+  Assimp::IOStream* Open(const char* file, const char* mode) override {
+    if (file && (path_ == file || ComparePaths(path_.c_str(), file)))
+      return new Assimp::MemoryIOStream(reinterpret_cast<const uint8_t*>(text_.data()), text_.size());
+    return Assimp::DefaultIOSystem::Open(file, mode);
+  }
+
+ private:
+  std::string path_, text_;
+};
+
 std::mutex& assimp_import_lock() {
   static std::mutex lock;
   return lock;
@@ -76,7 +93,10 @@ std::mutex& assimp_import_lock() {
 
 class AssimpReader {
  public:
-  AssimpReader(const aiScene& scene, const std::string& path) : scene_(scene), path_(path) { mesh_.source = path; }
+  AssimpReader(const aiScene& scene, const std::string& path, const Vec3& shift)
+      : scene_(scene), path_(path), shift_(shift) {
+    mesh_.source = path;
+  }
 
   Mesh read() {
     add_node(*scene_.mRootNode, aiMatrix4x4{}, 0);
@@ -129,6 +149,7 @@ class AssimpReader {
           {world.a1 * static_cast<double>(p.x) + world.a2 * static_cast<double>(p.y) + world.a3 * static_cast<double>(p.z) + world.a4,
            world.b1 * static_cast<double>(p.x) + world.b2 * static_cast<double>(p.y) + world.b3 * static_cast<double>(p.z) + world.b4,
            world.c1 * static_cast<double>(p.x) + world.c2 * static_cast<double>(p.y) + world.c3 * static_cast<double>(p.z) + world.c4});
+      mesh_.positions.back() += shift_;
     }
     const bool flip = linear_part_determinant(world) < 0;  // mirrored: keep outward orientation
     const bool colours = m.HasVertexColors(0);
@@ -228,6 +249,7 @@ class AssimpReader {
 
   const aiScene& scene_;
   std::string path_;
+  Vec3 shift_;  ///< added back to every position (see ShiftedFileSystem)
   Mesh mesh_;
   bool any_colour_ = false;
   bool any_uv_ = false;
@@ -245,10 +267,24 @@ Mesh load_with_assimp(const std::string& path) {
     if (in.read(magic, 3) && std::memcmp(magic, "ply", 3) == 0) detail::check_ply_structure(path);
   }
   Assimp::Importer importer;
+  Vec3 shift;
+  if (detail::lower_extension(path) == ".obj") {
+    // Far from the origin, single precision would lose the mesh's shape
+    // (spot moved by 1e6 lands on a grid of 0.06): assimp reads it moved to
+    // the origin, and the shift comes back in double.
+    const Box3 box = detail::check_obj_vertices(path);
+    if (!box.empty() && length(box.centre()) > 100 * box.diagonal()) {
+      shift = box.centre();
+      importer.SetIOHandler(new ShiftedFileSystem(path, detail::shift_obj_vertices(path, shift)));
+    }
+  }
   // Drop points and lines; pfill fills the volume a triangle surface bounds.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // No step that reorients or invents geometry: the surface is used as given.
-  const unsigned flags = aiProcess_Triangulate | aiProcess_JoinIdenticalVertices | aiProcess_SortByPType |
+  // No aiProcess_JoinIdenticalVertices: it merges within an absolute
+  // epsilon, which collapses distinct vertices of a small mesh; load_mesh
+  // welds bit-identical positions instead, whatever the scale.
+  const unsigned flags = aiProcess_Triangulate | aiProcess_SortByPType |
                          aiProcess_FlipUVs /* v = 0 at the top, as glTF and pfill::Texture */ |
                          aiProcess_ValidateDataStructure;
   const aiScene* scene = nullptr;
@@ -262,6 +298,7 @@ Mesh load_with_assimp(const std::string& path) {
   if (!scene) {
     std::string why = importer.GetErrorString();
     for (char& c : why) if (c == '\n') c = ' ';
+    why = excerpt(why, 160);  // assimp's messages may quote the rest of the file
     // Files with no faces at all (or only points and lines, which we drop) fail
     // assimp's validation; say it plainly.
     if (why.find("no faces") != std::string::npos || why.find("mNumMeshes is 0") != std::string::npos ||
@@ -271,7 +308,7 @@ Mesh load_with_assimp(const std::string& path) {
   }
   if (!scene->mRootNode || scene->mNumMeshes == 0 || !scene->mMeshes)
     throw Error(path + ": no triangles found; the file is empty, truncated or holds only points and lines");
-  return AssimpReader(*scene, path).read();
+  return AssimpReader(*scene, path, shift).read();
 }
 
 }  // namespace pfill

@@ -479,7 +479,7 @@ Mesh load_gltf(const std::string& path) {
     while (!why.empty() && (why.back() == '\n' || why.back() == ' ')) why.pop_back();
     for (char& c : why) if (c == '\n') c = ';';
     throw Error(path + ": not a valid glTF " + (binary ? "binary (GLB)" : "JSON") + " file: " +
-                (why.empty() ? "tinygltf gave no reason" : why));
+                (why.empty() ? "tinygltf gave no reason" : excerpt(why, 160)));
   }
   return GltfReader(model, path).read();
 }

@@ -81,6 +81,7 @@ Mesh load_mesh(const std::string& path, const LoadOptions& options) {
     mesh.source = path;
     const double diagonal = mesh.bounds().diagonal();
     weld_vertices(mesh, options.weld_tolerance > 0 ? options.weld_tolerance * diagonal : 0.0);
+    if (remove_duplicate_triangles(mesh) > 0) weld_vertices(mesh);  // drops the vertices left unused
     validate(mesh);
     return mesh;
   } catch (const Error& e) {
@@ -88,7 +89,7 @@ Mesh load_mesh(const std::string& path, const LoadOptions& options) {
   } catch (const std::bad_alloc&) {
     throw Error(path + ": out of memory while reading; the file is corrupt or too large for this machine");
   } catch (const std::exception& e) {
-    throw Error(printable(path + ": cannot be read: " + e.what()));
+    throw Error(printable(path + ": cannot be read: " + excerpt(e.what(), 160)));
   }
 }
 

@@ -89,8 +89,8 @@ class PlyChecker {
         if (kind == "ascii") format_ = PlyFormat::Ascii;
         else if (kind == "binary_little_endian") format_ = PlyFormat::LittleEndian;
         else if (kind == "binary_big_endian") format_ = PlyFormat::BigEndian;
-        else fail(where + " names an unknown format '" + kind + "'");
-        if (version != "1.0") fail(where + ": unsupported version '" + version + "'");
+        else fail(where + " names an unknown format '" + excerpt(kind) + "'");
+        if (version != "1.0") fail(where + ": unsupported version '" + excerpt(version) + "'");
         have_format = true;
       } else if (keyword == "element") {
         PlyElement e;
@@ -106,7 +106,7 @@ class PlyChecker {
         if (first == "list") {
           words >> p.count_type >> p.type >> name;
           if (ply_type_size(p.count_type) == 0 || !ply_type_is_integer(p.count_type))
-            fail(where + ": bad list count type '" + p.count_type + "'");
+            fail(where + ": bad list count type '" + excerpt(p.count_type) + "'");
         } else {
           p.type = first;
           words >> name;
@@ -114,7 +114,7 @@ class PlyChecker {
         if (ply_type_size(p.type) == 0 || name.empty()) fail(where + ": bad property line");
         elements_.back().properties.push_back(p);
       } else {
-        fail(where + " starts with an unknown keyword '" + keyword + "'");
+        fail(where + " starts with an unknown keyword '" + excerpt(keyword) + "'");
       }
       std::string extra;
       if (keyword != "format" && keyword != "element" && keyword != "property") continue;
@@ -150,6 +150,7 @@ class PlyChecker {
           if (!p.count_type.empty()) {
             const double n = number(words, e, i);
             if (n < 0 || n != std::floor(n) || n > 1e6) fail("bad list length in element '" + e.name + "'");
+            check_face_size(e, i, static_cast<int64_t>(n));
             items = static_cast<size_t>(n);
           }
           for (size_t k = 0; k < items; ++k) number(words, e, i);
@@ -164,7 +165,7 @@ class PlyChecker {
     if (!(words >> token)) fail("too few values in element '" + e.name + "' " + std::to_string(i));
     char* end = nullptr;
     const double v = std::strtod(token.c_str(), &end);
-    if (end == token.c_str() || *end != '\0') fail("malformed number '" + token + "' in element '" + e.name + "'");
+    if (end == token.c_str() || *end != '\0') fail("malformed number '" + excerpt(token) + "' in element '" + e.name + "'");
     return v;
   }
 
@@ -195,9 +196,17 @@ class PlyChecker {
           const int64_t n = read_count(at, p.count_type);
           at += size;
           if (n < 0 || n > 1000000) fail("bad list length " + std::to_string(n) + " in element '" + e.name + "'");
+          check_face_size(e, i, n);
           advance(at, static_cast<size_t>(n) * static_cast<size_t>(ply_type_size(p.type)), e);
         }
     }
+  }
+
+  // A face of fewer than three corners is no polygon (assimp's
+  // triangulation aborts on one with none).
+  void check_face_size(const PlyElement& e, size_t i, int64_t corners) const {
+    if (e.name == "face" && corners < 3)
+      fail("face " + std::to_string(i) + " has " + std::to_string(corners) + " corners; a face needs at least 3");
   }
 
   void advance(size_t& at, size_t size, const PlyElement& e) const {

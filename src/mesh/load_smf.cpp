@@ -28,8 +28,8 @@ struct SmfReader {
     const char* begin = token.c_str();
     char* end = nullptr;
     const double v = std::strtod(begin, &end);
-    if (end == begin || *end != '\0') fail("malformed number '" + token + "'");
-    if (!std::isfinite(v)) fail("NaN or infinite value '" + token + "'");
+    if (end == begin || *end != '\0') fail("malformed number '" + excerpt(token) + "'");
+    if (!std::isfinite(v)) fail("NaN or infinite value '" + excerpt(token) + "'");
     return v;
   }
 };
@@ -67,7 +67,7 @@ Mesh load_smf(const std::string& path) {
       std::vector<uint32_t> polygon;
       for (const std::string& a : args) {
         const double v = reader.number(a);
-        if (v != std::floor(v)) reader.fail("vertex index '" + a + "' is not an integer");
+        if (v != std::floor(v)) reader.fail("vertex index '" + excerpt(a) + "' is not an integer");
         // Faces may only use vertices defined above them (1-based).
         if (v < 1 || v > static_cast<double>(mesh.positions.size()))
           reader.fail("vertex index " + a + " out of range (1.." + std::to_string(mesh.positions.size()) + ")");
@@ -89,7 +89,7 @@ Mesh load_smf(const std::string& path) {
       if (args[1] == "vertex") binding = Binding::Vertex;
       else if (args[1] == "face") binding = Binding::Face;
       else if (args[1] == "corner") binding = Binding::Corner;
-      else reader.fail("unknown colour binding '" + args[1] + "' (use vertex, face or corner)");
+      else reader.fail("unknown colour binding '" + excerpt(args[1]) + "' (use vertex, face or corner)");
     }
     // Every other command (n, r, begin, end, trans, ...) does not change the surface we need.
   }

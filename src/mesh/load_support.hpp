@@ -31,4 +31,13 @@ Texture decode_image_file(const std::string& path);
 /// well formed and its body matches the header exactly (load_ply_check.cpp).
 void check_ply_structure(const std::string& path);
 
+/// Throws pfill::Error naming `path`, the OBJ vertex number and the line
+/// unless every `v` line holds three whole, finite numbers within
+/// kMaxCoordinate; returns the box of the vertices, read in double
+/// (load_obj_check.cpp).
+Box3 check_obj_vertices(const std::string& path);
+
+/// The OBJ file's text with every vertex moved by -shift, in double.
+std::string shift_obj_vertices(const std::string& path, const Vec3& shift);
+
 }  // namespace pfill::detail

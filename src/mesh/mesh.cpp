@@ -96,6 +96,64 @@ size_t weld_vertices(Mesh& mesh, double tolerance) {
   return removed;
 }
 
+size_t remove_duplicate_triangles(Mesh& mesh) {
+  // Key: the sorted corners; value: the first such triangle's index and
+  // whether it was already cancelled by an oppositely wound twin.
+  struct Seen {
+    size_t first;
+    bool even;  // the corners, as stored, are an even permutation of the sorted ones
+    bool cancelled = false;
+  };
+  auto sorted = [](Triangle t, bool* even) {
+    int swaps = 0;
+    if (t[0] > t[1]) std::swap(t[0], t[1]), ++swaps;
+    if (t[1] > t[2]) std::swap(t[1], t[2]), ++swaps;
+    if (t[0] > t[1]) std::swap(t[0], t[1]), ++swaps;
+    *even = swaps % 2 == 0;
+    return t;
+  };
+  struct Hash {
+    size_t operator()(const Triangle& t) const {
+      return std::hash<uint64_t>()((static_cast<uint64_t>(t[0]) * 0x9E3779B97F4A7C15ull) ^
+                                   (static_cast<uint64_t>(t[1]) << 21) ^ t[2]);
+    }
+  };
+  std::unordered_map<Triangle, Seen, Hash> seen;
+  seen.reserve(mesh.triangles.size());
+  std::vector<bool> keep(mesh.triangles.size(), true);
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    bool even = false;
+    const Triangle key = sorted(mesh.triangles[t], &even);
+    if (key[0] == key[1] || key[1] == key[2]) continue;  // degenerate: left as it is
+    auto [it, inserted] = seen.emplace(key, Seen{t, even});
+    if (inserted) continue;
+    keep[t] = false;  // a repeat: the same face again
+    if (it->second.even != even && !it->second.cancelled) {
+      keep[it->second.first] = false;  // wound the other way: the two faces cancel
+      it->second.cancelled = true;
+    }
+  }
+  const size_t before = mesh.triangles.size();
+  const bool colours = mesh.corner_colours.size() == 3 * before, uvs = mesh.corner_uvs.size() == 3 * before;
+  const bool materials = mesh.triangle_materials.size() == before;
+  size_t n = 0;
+  for (size_t t = 0; t < before; ++t) {
+    if (!keep[t]) continue;
+    mesh.triangles[n] = mesh.triangles[t];
+    for (int k = 0; k < 3; ++k) {
+      if (colours) mesh.corner_colours[3 * n + k] = mesh.corner_colours[3 * t + k];
+      if (uvs) mesh.corner_uvs[3 * n + k] = mesh.corner_uvs[3 * t + k];
+    }
+    if (materials) mesh.triangle_materials[n] = mesh.triangle_materials[t];
+    ++n;
+  }
+  mesh.triangles.resize(n);
+  if (colours) mesh.corner_colours.resize(3 * n);
+  if (uvs) mesh.corner_uvs.resize(3 * n);
+  if (materials) mesh.triangle_materials.resize(n);
+  return before - n;
+}
+
 void flip_orientation(Mesh& mesh) {
   for (size_t t = 0; t < mesh.triangles.size(); ++t) {
     std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
@@ -114,6 +172,12 @@ void validate(const Mesh& mesh) {
     if (!is_finite(mesh.positions[i]))
       throw Error(where + ": vertex " + std::to_string(i) +
                   " has a NaN or infinite coordinate; repair or re-export the mesh");
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    for (int k = 0; k < 3; ++k)
+      if (std::fabs(mesh.positions[i][k]) > kMaxCoordinate)
+        throw Error(where + ": vertex " + std::to_string(i) + " has a coordinate of " +
+                    std::to_string(mesh.positions[i][k]) + ", beyond the +-1e15 pfill computes with; rescale "
+                    "the mesh");
   for (size_t t = 0; t < mesh.triangles.size(); ++t)
     for (uint32_t v : mesh.triangles[t])
       if (v >= mesh.positions.size())

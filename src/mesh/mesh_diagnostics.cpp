@@ -128,6 +128,9 @@ MeshDiagnostics diagnose(const Mesh& mesh) {
       ++d.components;
     }
 
+  if (d.boundary_edges == 0 && d.signed_volume != 0 && edges_balanced(mesh))
+    d.winding = sweep_winding(mesh, d.signed_volume < 0 ? -1 : 1);
+
   if (d.watertight()) {
     // Euler: V - E + F = 2 (C - g) summed over components.
     const long long chi = static_cast<long long>(d.vertices) - static_cast<long long>(d.edges) +
