@@ -123,6 +123,7 @@ nlohmann::ordered_json report_json(const FillArgs& a, const Mesh& mesh, const Fi
           {"settle_reason", r.settle_reason},
           {"lost_outside", r.lost_outside},
           {"relief_removed", r.relief_removed},
+          {"relief_forced", r.relief_forced},
           {"relief_rounds", r.relief_rounds},
           {"voids_filled", r.voids_filled},
           {"containment_moved", r.containment.moved},
@@ -199,10 +200,12 @@ void run_fill(FillArgs& a) {
   print_metrics(stdout, r.metrics);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
-  std::printf("  added           %s into holes after the relief\n", thousands(r.voids_filled).c_str());
-  std::printf("  removed         %s flagged outside, %s for overlaps (%s rounds), %s by the exact check (%s moved in)\n",
-              thousands(r.lost_outside).c_str(), thousands(r.relief_removed).c_str(),
-              thousands(r.relief_rounds).c_str(), thousands(r.containment.removed).c_str(),
+  std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
+              thousands(r.relief_rounds).c_str(), thousands(r.voids_filled).c_str(),
+              thousands(r.relief_removed).c_str(),
+              r.relief_forced ? (" (" + thousands(r.relief_forced) + " when the rounds ran out)").c_str() : "");
+  std::printf("  removed         %s flagged outside, %s by the exact check (%s moved in)\n",
+              thousands(r.lost_outside).c_str(), thousands(r.containment.removed).c_str(),
               thousands(r.containment.moved).c_str());
   std::string passes;
   for (const PassStats& p : r.passes)
@@ -256,12 +259,12 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
       ->capture_default_str();
-  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes after the relief")
+  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
       ->capture_default_str();
   cmd->add_option("--void-clearance", o.void_clearance,
                   "A hole takes a sphere when the nearest centre is this many rest distances away")
       ->capture_default_str();
-  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap left after relief, fraction of r")
+  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap of any pair after the finish, fraction of r (0: none)")
       ->capture_default_str();
   cmd->add_option("--colour", a->colour,
                   "Particle colours: surface (the mesh's colours/texture), depth, none or #RRGGBB "

@@ -1,0 +1,230 @@
+// The finish (see finish.hpp). Overlaps are resolved by moving spheres: a
+// damped, purely repulsive relaxation whose contact distance is 2r inflated
+// by about half the bound, so every pair it separates ends clear of the
+// bound, and the wall keeps every centre inside. Only when a relaxation
+// stalls (the spheres stop moving) with pairs still over the bound is the
+// packing too full there: then the most compressed spheres go, about half of
+// the excess its overlaps imply, never two touching ones in a round, and the
+// relaxation runs again. Holes the relaxed packing leaves that take a
+// sphere get one, and the loop goes on until nothing is over the bound and
+// no hole is left (or the rounds run out: then one sphere of each pair still
+// over the bound goes, so the bound always holds).
+//
+// The device runs the relaxation; the host reads the step history every
+// `chunk_steps` steps (a few scalars) and the positions once a round.
+#include "fill/finish.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdint>
+#include <cstdlib>
+
+#include "pfill/packing_metrics.hpp"
+#include "pfill/voids.hpp"
+
+namespace pfill {
+namespace {
+
+ParticleSet to_set(const std::vector<Particle>& ps, double radius) {
+  ParticleSet set;
+  set.positions.reserve(ps.size());
+  set.radii.assign(ps.size(), radius);
+  for (const Particle& p : ps) set.positions.push_back(p.position);
+  return set;
+}
+
+class Finisher {
+ public:
+  Finisher(Device& device, const EngineParams& base, const ScalarGrid& field, const FinishSettings& s,
+           FinishStats& stats)
+      : s_(s), field_(field), stats_(stats), trace_(std::getenv("PFILL_FINISH_TRACE") != nullptr) {
+    const double inflation = s.inflation >= 0 ? s.inflation : finish_inflation(s.max_overlap);
+    // The engine's spheres are smaller by half the bound, so that the
+    // colliding pairs it counts every step are those over the bound, and
+    // its wall moves in by as much, so that centres stay r inside.
+    engine_radius_ = s.radius * (1 - 0.5 * s.max_overlap);
+    ScalarGrid wall = field;
+    for (float& v : wall.values) v += static_cast<float>(s.radius - engine_radius_);
+    EngineParams p = base;
+    p.cutoff_sigma = 0;  // purely repulsive: attraction would pull spheres together
+    p.rest_distance = 2 * s.radius * (1 + inflation);
+    p.max_radius = std::max(base.max_radius, s.radius * (1 + 1e-6));
+    p.restitution = 0;
+    p.wall_restitution = 0;
+    p.dt = 0;
+    p.dt = s.time_step * derive_constants(p).tau;
+    p.damping = -std::log(1 - s.damping) / p.dt;
+    p.history_capacity = std::max<size_t>(p.history_capacity, static_cast<size_t>(s.chunk_steps) + 8);
+    p.radius = engine_radius_;
+    engine_ = std::make_unique<Engine>(device, p);
+    engine_->set_field(wall);
+  }
+
+  ParticleSet run(const std::vector<Particle>& particles) {
+    std::vector<Particle> ps = particles;
+    for (Particle& p : ps) {
+      p.velocity = {};
+      p.radius = engine_radius_;
+      p.mass = 0;
+    }
+    engine_->add_particles(ps);
+    int holes_done = 0;
+    ParticleSet now;
+    for (int round = 0;; ++round) {
+      relax();
+      now = to_set(engine_->read_particles(), s_.radius);
+      const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
+      size_t over = 0;
+      for (const Overlap& o : overlaps) over += o.fraction > s_.max_overlap;
+      if (trace_)
+        std::fprintf(stderr, "finish round %d: %zu spheres, %zu overlapping pairs, %zu over the bound\n", round,
+                     now.size(), overlaps.size(), over);
+      if (over > 0) {
+        if (round + 1 >= s_.max_rounds) {
+          remove_one_of_each(now, overlaps);
+          break;
+        }
+        remove_most_compressed(now, overlaps);
+        continue;
+      }
+      if (holes_done >= s_.hole_rounds || round + 1 >= s_.max_rounds) break;
+      const std::vector<Vec3> holes = find_voids(now, field_, s_.radius, s_.hole_clearance * s_.radius, now.size());
+      if (trace_) std::fprintf(stderr, "finish round %d: %zu holes\n", round, holes.size());
+      if (holes.empty()) break;
+      ++holes_done;
+      std::vector<Particle> newcomers(holes.size());
+      for (size_t k = 0; k < holes.size(); ++k) {
+        newcomers[k].position = holes[k];
+        newcomers[k].radius = engine_radius_;
+      }
+      engine_->add_particles(newcomers);
+      stats_.inserted += holes.size();
+    }
+    return to_set(engine_->read_particles(), s_.radius);
+  }
+
+  void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
+
+ private:
+  /// Steps until the spheres stall (the largest step's move below a
+  /// millionth of... see below) or the budget runs out; removes any the
+  /// wall flagged outside.
+  void relax() {
+    ++stats_.rounds;
+    uint64_t done = 0;
+    uint32_t pairs = 0, fewest = UINT32_MAX;
+    int since_fewer = 0;
+    while (done < s_.relax_steps) {
+      engine_->run_steps(static_cast<size_t>(s_.chunk_steps));
+      done += static_cast<uint64_t>(s_.chunk_steps);
+      const std::vector<StepRecord> h = engine_->read_history();
+      if (h.empty()) break;
+      const StepRecord& last = h.back();
+      pairs = last.colliding_pairs;  // pairs over the bound (the engine's spheres are smaller by it)
+      if (trace_)
+        std::fprintf(stderr, "  relax %6llu: ke %.3e over %u move %.3e r\n", static_cast<unsigned long long>(done),
+                     last.kinetic_energy, last.colliding_pairs, last.max_displacement / s_.radius);
+      if (pairs == 0) break;
+      // Stalled: the count over the bound has not fallen by a twentieth for `patience` reads.
+      if (pairs < fewest - fewest / 20) {
+        fewest = pairs;
+        since_fewer = 0;
+      } else if (++since_fewer >= s_.patience) {
+        break;
+      }
+    }
+    stats_.steps += done;
+    std::vector<size_t> out = engine_->flagged_particles();
+    engine_->clear_flags();
+    if (!out.empty()) {
+      stats_.removed += out.size();
+      engine_->remove_particles(out);
+    }
+    if (progress_) progress_(engine_->size(), pairs);
+  }
+
+  /// After a stalled relaxation: the spheres pressed hardest go, about
+  /// `removal_share` of the excess the overlaps imply (shrinking a sphere's
+  /// radius by s of r frees 3 s of its volume; a sphere needs to shrink by
+  /// half its worst excess overlap), and no two that overlap each other in
+  /// one round (removing one relieves its neighbours).
+  void remove_most_compressed(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
+    const size_t n = now.size();
+    std::vector<double> need(n, 0), pressed(n, 0);
+    std::vector<std::vector<uint32_t>> touching(n);
+    for (const Overlap& o : overlaps) {
+      const double excess = 0.5 * std::max(0.0, o.fraction - s_.max_overlap);
+      need[o.i] = std::max(need[o.i], excess);
+      need[o.j] = std::max(need[o.j], excess);
+      pressed[o.i] += o.fraction;
+      pressed[o.j] += o.fraction;
+      touching[o.i].push_back(o.j);
+      touching[o.j].push_back(o.i);
+    }
+    double excess = 0;
+    std::vector<size_t> candidates;
+    for (size_t i = 0; i < n; ++i)
+      if (need[i] > 0) {
+        excess += 3 * need[i];
+        candidates.push_back(i);
+      }
+    const size_t want = std::max<size_t>(1, static_cast<size_t>(std::ceil(s_.removal_share * excess)));
+    std::sort(candidates.begin(), candidates.end(),
+              [&](size_t a, size_t b) { return pressed[a] > pressed[b] || (pressed[a] == pressed[b] && a < b); });
+    std::vector<bool> blocked(n, false);
+    std::vector<size_t> out;
+    for (size_t i : candidates) {
+      if (out.size() >= want) break;
+      if (blocked[i]) continue;
+      out.push_back(i);
+      for (uint32_t j : touching[i]) blocked[j] = true;
+    }
+    if (trace_) std::fprintf(stderr, "  excess %.1f spheres: removing %zu\n", excess, out.size());
+    stats_.removed += out.size();
+    engine_->remove_particles(out);
+  }
+
+  /// Out of rounds: one sphere of every pair still over the bound goes
+  /// (the more pressed one), so the bound holds whatever the rounds did.
+  void remove_one_of_each(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
+    std::vector<double> pressed(now.size(), 0);
+    for (const Overlap& o : overlaps) {
+      pressed[o.i] += o.fraction;
+      pressed[o.j] += o.fraction;
+    }
+    std::vector<bool> gone(now.size(), false);
+    std::vector<size_t> out;
+    for (const Overlap& o : overlaps) {
+      if (o.fraction <= s_.max_overlap || gone[o.i] || gone[o.j]) continue;
+      const size_t k = pressed[o.i] >= pressed[o.j] ? o.i : o.j;
+      gone[k] = true;
+      out.push_back(k);
+    }
+    stats_.removed += out.size();
+    stats_.forced += out.size();
+    engine_->remove_particles(out);
+  }
+
+  FinishSettings s_;
+  const ScalarGrid& field_;
+  FinishStats& stats_;
+  bool trace_;
+  double engine_radius_ = 0;
+  std::unique_ptr<Engine> engine_;
+  std::function<void(size_t, uint32_t)> progress_;
+};
+
+}  // namespace
+
+double finish_inflation(double max_overlap) { return 0.5 * max_overlap + 5e-5; }
+
+ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
+                           const std::vector<Particle>& particles, const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress) {
+  Finisher f(device, base, field, settings, stats);
+  f.set_progress(progress);
+  return f.run(particles);
+}
+
+}  // namespace pfill
