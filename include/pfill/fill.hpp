@@ -76,7 +76,7 @@ struct FillOptions {
   double max_overlap = 0.05;    ///< bound on every pair's overlap after the finish, fraction of r (0: none, as floats allow)
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
   int void_rounds = 3;          ///< rounds of inserting spheres into holes (0: none)
-  double void_clearance = 0.9;  ///< a hole takes a sphere when the nearest centre is this many rest distances away
+  double void_clearance = 0.95; ///< a hole takes a sphere when the nearest centre is this many rest distances away
 
   // Colour: from the surface (vertex colours, texture), by depth, none, or
   // one colour. Empty: surface when the mesh has colours, else none.

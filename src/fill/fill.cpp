@@ -323,6 +323,7 @@ class FillRun {
     env("PFILL_FINISH_DAMPING", s.damping);
     env("PFILL_FINISH_SHARE", s.removal_share);
     env("PFILL_FINISH_HOLE", s.hole_clearance);
+    env("PFILL_FINISH_MARGIN", s.wall_margin);
     double v = -1;
     env("PFILL_FINISH_RELAX", v);
     if (v > 0) s.relax_steps = static_cast<uint64_t>(v);
