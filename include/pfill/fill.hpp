@@ -73,7 +73,7 @@ struct FillOptions {
 
   // The finish (src/fill/finish.cpp): overlaps relaxed away by moving
   // spheres, deletions only where that stalls, holes filled.
-  double max_overlap = 0.05;    ///< bound on every pair's overlap after the finish, fraction of r (0: none, as floats allow)
+  double max_overlap = 0.001;   ///< bound on every pair's overlap after the finish, fraction of r (0: none, below 1e-4 r); README says why 0.1%
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
   int void_rounds = 3;          ///< rounds of inserting spheres into holes (0: none)
   double void_clearance = 0.95; ///< a hole takes a sphere when the nearest centre is this many rest distances away

@@ -44,6 +44,7 @@ class Finisher {
     // colliding pairs it counts every step are those over the bound, and
     // its wall moves in by as much, so that centres stay r inside.
     engine_radius_ = s.radius * (1 - 0.5 * s.max_overlap);
+    deep_ = s.radius * (1 + s.wall_margin);
     ScalarGrid wall = field;
     // The wall also keeps `wall_margin` r more: the field, interpolated,
     // misses some of the surface's bends, which the exact check then finds.
@@ -91,7 +92,7 @@ class Finisher {
         continue;
       }
       if (holes_done >= s_.hole_rounds || round + 1 >= s_.max_rounds) break;
-      const std::vector<Vec3> holes = find_holes(now, field_, s_.radius, s_.hole_clearance * s_.radius, now.size());
+      const std::vector<Vec3> holes = find_holes(now, field_, deep_, s_.hole_clearance * s_.radius, now.size());
       if (trace_) std::fprintf(stderr, "finish round %d: %zu holes\n", round, holes.size());
       if (holes.empty()) break;
       ++holes_done;
@@ -103,7 +104,17 @@ class Finisher {
       engine_->add_particles(newcomers);
       stats_.inserted += holes.size();
     }
-    return to_set(engine_->read_particles(), s_.radius);
+    // Holes a sphere fits in without overlap (a deletion after the last
+    // insertion may leave one) take one as they are: nothing to relax.
+    now = to_set(engine_->read_particles(), s_.radius);
+    const std::vector<Vec3> fits = find_holes(now, field_, deep_, 2 * s_.radius * (1 + 1e-6), now.size());
+    for (const Vec3& p : fits) {
+      now.positions.push_back(p);
+      now.radii.push_back(s_.radius);
+    }
+    stats_.inserted += fits.size();
+    if (trace_) std::fprintf(stderr, "finish: %zu spheres put into holes they fit\n", fits.size());
+    return now;
   }
 
   void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
@@ -213,6 +224,7 @@ class Finisher {
   FinishStats& stats_;
   bool trace_;
   double engine_radius_ = 0;
+  double deep_ = 0;  ///< how deep (by the field) a centre must lie
   std::unique_ptr<Engine> engine_;
   std::function<void(size_t, uint32_t)> progress_;
 };
