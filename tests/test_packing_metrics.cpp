@@ -87,7 +87,7 @@ TEST_CASE("repair_containment moves crossing spheres inside and removes those wi
   CHECK(big.size() == 0);
 }
 
-TEST_CASE("find_voids finds the one hole of a lattice with a sphere taken out, and nothing in a full one") {
+TEST_CASE("find_holes finds the one hole of a lattice with a sphere taken out, and nothing in a full one") {
   const double r = 0.1;
   ParticleSet full;
   for (int i = -3; i <= 3; ++i)
@@ -103,17 +103,17 @@ TEST_CASE("find_voids finds the one hole of a lattice with a sphere taken out, a
   sdf.dims = {49, 49, 49};
   sdf.values.assign(49 * 49 * 49, -1.0f);
   const double clearance = 1.8 * r;  // more than the lattice's biggest gap, sqrt(3) r
-  CHECK(find_voids(full, sdf, r, clearance, 100).empty());
+  CHECK(find_holes(full, sdf, r, clearance, 100).empty());
 
   ParticleSet holed = full;
   const size_t centre = holed.positions.size() / 2;  // the sphere at the origin
   REQUIRE(length(holed.positions[centre]) < 1e-12);
   holed.positions.erase(holed.positions.begin() + centre);
   holed.radii.erase(holed.radii.begin() + centre);
-  const std::vector<Vec3> voids = find_voids(holed, sdf, r, clearance, 100);
+  const std::vector<Vec3> voids = find_holes(holed, sdf, r, clearance, 100);
   REQUIRE(voids.size() == 1);
   CHECK(length(voids[0]) <= 0.2 * r + 1e-9);
-  CHECK(find_voids(holed, sdf, r, clearance, 0).empty());
+  CHECK(find_holes(holed, sdf, r, clearance, 0).empty());
 }
 
 TEST_CASE("find_holes climbs to a hole between grid points and takes only holes a sphere fits in") {

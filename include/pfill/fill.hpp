@@ -21,7 +21,7 @@ namespace pfill {
 
 /// What a long fill reports while it runs (through FillOptions::progress).
 struct FillProgress {
-  std::string phase;            ///< "field", "pass 1", "pass 2", "settle", "relief", "verify"
+  std::string phase;            ///< "field", "pass 1", "pass 2", "settle", "finish", "verify"
   uint64_t step = 0;            ///< engine steps so far
   size_t particles = 0;
   size_t target = 0;            ///< the count expected when full (an estimate)

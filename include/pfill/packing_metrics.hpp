@@ -45,6 +45,14 @@ struct MetricsOptions {
 /// than 2 r count as 2 r. Parallel.
 double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particles, double radius);
 
+/// The same hole and where it is: a sphere of `radius` centred there lies
+/// inside and overlaps none when gap_over_r >= 1.
+struct Hole {
+  Vec3 centre;
+  double gap_over_r = 0;
+};
+Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius);
+
 /// Measures `particles` in the mesh of `boundary` (whose volume is given,
 /// since open meshes need the estimate from diagnose()). Parallel.
 PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, const ParticleSet& particles,

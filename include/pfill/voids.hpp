@@ -10,13 +10,6 @@
 
 namespace pfill {
 
-/// Grid points of `sdf` at least `radius` inside the surface whose nearest
-/// centre in `particles` is at least `clearance` away, chosen greedily in
-/// grid order so that the chosen points
-/// are also `clearance` apart. At most `limit` points.
-std::vector<Vec3> find_voids(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit);
-
 /// Points at least `radius` inside (by `sdf`) whose nearest centre is at
 /// least `clearance` away, each climbed from a grid point to where its
 /// nearest centre is farthest, so that holes between grid points are found

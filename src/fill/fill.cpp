@@ -19,14 +19,12 @@
 #include <deque>
 #include <cmath>
 #include <random>
-#include <cstdlib>
 
 #include "pfill/boundary.hpp"
 #include "pfill/device/device.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
-#include "pfill/particle_io.hpp"
 #include "pfill/sdf.hpp"
 #include "fill/finish.hpp"
 
@@ -64,11 +62,9 @@ class FillRun {
 
   FillResult run() {
     prepare();
-    if (!std::getenv("PFILL_DEV_LOAD")) {  // DEV
     pass1();
     pass2();
     settle();
-    }
     finish();
     verify();
     result_.seconds = seconds_since(start_);
@@ -286,18 +282,9 @@ class FillRun {
     const auto t = Clock::now();
     phase_ = "finish";
     fill_steps_ = engine_->steps_done();
-    std::vector<Particle> ps = engine_->read_particles();
-    if (const char* dump = std::getenv("PFILL_DEV_DUMP")) write_particles(to_particle_set(ps), dump);  // DEV
-    if (const char* load = std::getenv("PFILL_DEV_LOAD")) {  // DEV
-      const ParticleSet set = read_particles(load);
-      ps.assign(set.size(), Particle{});
-      for (size_t i = 0; i < set.size(); ++i) {
-        ps[i].position = set.positions[i];
-        ps[i].radius = radius_;
-      }
-    }
+    const std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
-    FinishSettings s = finish_settings();
+    const FinishSettings s = finish_settings();
     FinishStats stats;
     particles_ = finish_packing(*device_, params_, field_, ps, s, stats,
                                 [&](size_t n, uint32_t pairs) { report_particles(n, 0, pairs); });
@@ -315,30 +302,6 @@ class FillRun {
     s.max_overlap = o_.max_overlap;
     s.hole_rounds = o_.void_rounds;
     s.hole_clearance = o_.void_clearance * 2 * o_.rest_distance;
-    auto env = [](const char* name, double& v) {
-      if (const char* e = std::getenv(name)) v = std::atof(e);
-    };
-    env("PFILL_FINISH_INFLATION", s.inflation);
-    env("PFILL_FINISH_DT", s.time_step);
-    env("PFILL_FINISH_DAMPING", s.damping);
-    env("PFILL_FINISH_SHARE", s.removal_share);
-    env("PFILL_FINISH_HOLE", s.hole_clearance);
-    env("PFILL_FINISH_MARGIN", s.wall_margin);
-    double v = -1;
-    env("PFILL_FINISH_RELAX", v);
-    if (v > 0) s.relax_steps = static_cast<uint64_t>(v);
-    v = -1;
-    env("PFILL_FINISH_CHUNK", v);
-    if (v > 0) s.chunk_steps = static_cast<int>(v);
-    v = -1;
-    env("PFILL_FINISH_HOLE_ROUNDS", v);
-    if (v >= 0) s.hole_rounds = static_cast<int>(v);
-    v = -1;
-    env("PFILL_FINISH_PATIENCE", v);
-    if (v > 0) s.patience = static_cast<int>(v);
-    v = -1;
-    env("PFILL_FINISH_ROUNDS", v);
-    if (v > 0) s.max_rounds = static_cast<int>(v);
     return s;
   }
 
@@ -348,6 +311,15 @@ class FillRun {
     report_particles(particles_.size(), 0, 0);
     result_.containment =
         repair_containment(*boundary_, particles_, o_.containment_tolerance, o_.max_overlap);
+    // Holes the field hid (near the wall) or the repair opened take a sphere
+    // where, by exact distances, one fits inside without overlap.
+    for (int k = 0; k < 32; ++k) {
+      const Hole h = largest_hole(*boundary_, particles_, radius_);
+      if (h.gap_over_r < 1) break;
+      particles_.positions.push_back(h.centre);
+      particles_.radii.push_back(radius_);
+      ++result_.voids_filled;
+    }
     MetricsOptions mo;
     mo.containment_tolerance = o_.containment_tolerance;
     result_.metrics = measure_packing(*boundary_, volume_, particles_, mo);

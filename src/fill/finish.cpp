@@ -1,24 +1,25 @@
 // The finish (see finish.hpp). Overlaps are resolved by moving spheres: a
-// damped, purely repulsive relaxation whose contact distance is 2r inflated
-// by about half the bound, so every pair it separates ends clear of the
-// bound, and the wall keeps every centre inside. Only when a relaxation
-// stalls (the spheres stop moving) with pairs still over the bound is the
-// packing too full there: then the most compressed spheres go, about half of
-// the excess its overlaps imply, never two touching ones in a round, and the
-// relaxation runs again. Holes the relaxed packing leaves that take a
-// sphere get one, and the loop goes on until nothing is over the bound and
-// no hole is left (or the rounds run out: then one sphere of each pair still
-// over the bound goes, so the bound always holds).
+// lightly damped, purely repulsive relaxation (inertia carries it through
+// the packing's soft modes faster than strong damping) whose rest distance
+// is set by the bound (finish_inflation), with the wall keeping every centre
+// inside. The engine's spheres are smaller than r by half the bound, so the
+// colliding pairs it counts each step are the pairs over the bound: a
+// relaxation ends when that count is 0 or stops falling, with no positions
+// read. Only when it stalls above 0 is the packing too full there: then the
+// most compressed spheres go, about half of the excess the overlaps imply,
+// never two touching ones in a round, and the relaxation runs again. Holes
+// the relaxed packing leaves get a sphere, relaxed in, a few rounds; then
+// every hole a sphere fits without overlap gets one as it is. If the rounds
+// run out, one sphere of each pair still over the bound goes, so the bound
+// always holds.
 //
 // The device runs the relaxation; the host reads the step history every
-// `chunk_steps` steps (a few scalars) and the positions once a round.
+// `chunk_steps` steps (a few scalars) and the positions once a relaxation.
 #include "fill/finish.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <cstdint>
-#include <cstdlib>
 
 #include "pfill/packing_metrics.hpp"
 #include "pfill/voids.hpp"
@@ -38,7 +39,7 @@ class Finisher {
  public:
   Finisher(Device& device, const EngineParams& base, const ScalarGrid& field, const FinishSettings& s,
            FinishStats& stats)
-      : s_(s), field_(field), stats_(stats), trace_(std::getenv("PFILL_FINISH_TRACE") != nullptr) {
+      : s_(s), field_(field), stats_(stats) {
     const double inflation = std::isnan(s.inflation) ? finish_inflation(s.max_overlap) : s.inflation;
     // The engine's spheres are smaller by half the bound, so that the
     // colliding pairs it counts every step are those over the bound, and
@@ -80,9 +81,6 @@ class Finisher {
       const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
       size_t over = 0;
       for (const Overlap& o : overlaps) over += o.fraction > s_.max_overlap;
-      if (trace_)
-        std::fprintf(stderr, "finish round %d: %zu spheres, %zu overlapping pairs, %zu over the bound\n", round,
-                     now.size(), overlaps.size(), over);
       if (over > 0) {
         if (round + 1 >= s_.max_rounds) {
           remove_one_of_each(now, overlaps);
@@ -93,7 +91,6 @@ class Finisher {
       }
       if (holes_done >= s_.hole_rounds || round + 1 >= s_.max_rounds) break;
       const std::vector<Vec3> holes = find_holes(now, field_, deep_, s_.hole_clearance * s_.radius, now.size());
-      if (trace_) std::fprintf(stderr, "finish round %d: %zu holes\n", round, holes.size());
       if (holes.empty()) break;
       ++holes_done;
       std::vector<Particle> newcomers(holes.size());
@@ -113,16 +110,14 @@ class Finisher {
       now.radii.push_back(s_.radius);
     }
     stats_.inserted += fits.size();
-    if (trace_) std::fprintf(stderr, "finish: %zu spheres put into holes they fit\n", fits.size());
     return now;
   }
 
   void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
 
  private:
-  /// Steps until the spheres stall (the largest step's move below a
-  /// millionth of... see below) or the budget runs out; removes any the
-  /// wall flagged outside.
+  /// Steps until no pair is over the bound, the count of those stops
+  /// falling, or the budget runs out; removes any the wall flagged outside.
   void relax() {
     ++stats_.rounds;
     uint64_t done = 0;
@@ -135,9 +130,6 @@ class Finisher {
       if (h.empty()) break;
       const StepRecord& last = h.back();
       pairs = last.colliding_pairs;  // pairs over the bound (the engine's spheres are smaller by it)
-      if (trace_)
-        std::fprintf(stderr, "  relax %6llu: ke %.3e over %u move %.3e r\n", static_cast<unsigned long long>(done),
-                     last.kinetic_energy, last.colliding_pairs, last.max_displacement / s_.radius);
       if (pairs == 0) break;
       // Stalled: the count over the bound has not fallen by a twentieth for `patience` reads.
       if (pairs < fewest - fewest / 20) {
@@ -182,18 +174,34 @@ class Finisher {
         excess += 3 * need[i];
         candidates.push_back(i);
       }
-    const size_t want = std::max<size_t>(1, static_cast<size_t>(std::ceil(s_.removal_share * excess)));
     std::sort(candidates.begin(), candidates.end(),
               [&](size_t a, size_t b) { return pressed[a] > pressed[b] || (pressed[a] == pressed[b] && a < b); });
-    std::vector<bool> blocked(n, false);
+    // Each jam (a cluster of pairs over the bound) that the relaxation could
+    // not undo loses its most pressed sphere at least, so that the rounds
+    // do not grow with the number of jams (that is, with N).
+    std::vector<uint32_t> root(n);
+    for (size_t i = 0; i < n; ++i) root[i] = static_cast<uint32_t>(i);
+    auto find = [&](uint32_t i) {
+      while (root[i] != i) i = root[i] = root[root[i]];
+      return i;
+    };
+    for (const Overlap& o : overlaps)
+      if (o.fraction > s_.max_overlap) root[find(o.i)] = find(o.j);
+    std::vector<bool> blocked(n, false), jam_done(n, false), chosen(n, false);
     std::vector<size_t> out;
+    auto take = [&](size_t i) {
+      out.push_back(i);
+      chosen[i] = true;
+      jam_done[find(static_cast<uint32_t>(i))] = true;
+      for (uint32_t j : touching[i]) blocked[j] = true;
+    };
+    for (size_t i : candidates)
+      if (!jam_done[find(static_cast<uint32_t>(i))] && !blocked[i]) take(i);
+    const size_t want = static_cast<size_t>(std::ceil(s_.removal_share * excess));
     for (size_t i : candidates) {
       if (out.size() >= want) break;
-      if (blocked[i]) continue;
-      out.push_back(i);
-      for (uint32_t j : touching[i]) blocked[j] = true;
+      if (!blocked[i] && !chosen[i]) take(i);
     }
-    if (trace_) std::fprintf(stderr, "  excess %.1f spheres: removing %zu\n", excess, out.size());
     stats_.removed += out.size();
     engine_->remove_particles(out);
   }
@@ -222,7 +230,6 @@ class Finisher {
   FinishSettings s_;
   const ScalarGrid& field_;
   FinishStats& stats_;
-  bool trace_;
   double engine_radius_ = 0;
   double deep_ = 0;  ///< how deep (by the field) a centre must lie
   std::unique_ptr<Engine> engine_;

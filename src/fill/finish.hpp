@@ -23,7 +23,7 @@ struct FinishSettings {
   double damping = 0.01;        ///< share of every velocity lost each relaxation step (little: inertia crosses the soft modes faster)
   int chunk_steps = 100;        ///< relaxation steps between reads of the step history
   uint64_t relax_steps = 1500;  ///< most steps of one relaxation (it stops earlier when the spheres stall)
-  int patience = 3;             ///< a relaxation has stalled when the pairs over the bound fell by under 5% in this many reads
+  int patience = 5;             ///< a relaxation has stalled when the pairs over the bound fell by under 5% in this many reads
   int max_rounds = 30;          ///< relaxations, each followed by removals or insertions
   double removal_share = 0.5;   ///< share of the estimated excess removed after a jammed relaxation
   double hole_clearance = 1.9;  ///< a hole takes a sphere where the nearest centre is this many r away

@@ -97,7 +97,11 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
 }
 
 double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particles, double radius) {
-  if (particles.size() == 0 || !(radius > 0)) return 0;
+  return largest_hole(boundary, particles, radius).gap_over_r;
+}
+
+Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius) {
+  if (particles.size() == 0 || !(radius > 0)) return {};
   const double reach = 3 * radius;  // nearest surfaces searched this far: holes over 2 r count as 2 r
   const CentreGrid grid(particles.positions, reach);
   // Distance from p to the nearest sphere's surface (reach - radius when none is in reach).
@@ -142,6 +146,7 @@ double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particle
   // until no unchecked point can beat the best (points outside the mesh fail).
   auto deep = [&](const Vec3& p) { return boundary.fast_signed_distance(p, std::numeric_limits<double>::infinity()) <= -radius; };
   double best = 0;
+  Vec3 best_at;
   std::vector<Candidate> accepted;
   constexpr size_t kBatch = 4096;
   for (size_t first = 0; first < cands.size() && cands[first].gap > best - h; first += kBatch) {
@@ -150,7 +155,10 @@ double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particle
     tbb::parallel_for(first, last, [&](size_t c) { ok[c - first] = deep(cands[c].p); });
     for (size_t c = first; c < last; ++c)
       if (ok[c - first]) {
-        best = std::max(best, cands[c].gap);
+        if (cands[c].gap > best) {
+          best = cands[c].gap;
+          best_at = cands[c].p;
+        }
         accepted.push_back(cands[c]);
       }
   }
@@ -164,6 +172,7 @@ double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particle
     if (!seen) seeds.push_back(c.p);
   }
   std::vector<double> climbed(seeds.size(), 0);
+  std::vector<Vec3> climbed_to(seeds.size());
   tbb::parallel_for(size_t(0), seeds.size(), [&](size_t k) {
     Vec3 p = seeds[k];
     double g = gap(p);
@@ -184,9 +193,14 @@ double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particle
       if (!moved) step *= 0.5;
     }
     climbed[k] = g;
+    climbed_to[k] = p;
   });
-  for (double g : climbed) best = std::max(best, g);
-  return best / radius;
+  for (size_t k = 0; k < climbed.size(); ++k)
+    if (climbed[k] > best) {
+      best = climbed[k];
+      best_at = climbed_to[k];
+    }
+  return {best_at, best / radius};
 }
 
 ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& particles, double tolerance,

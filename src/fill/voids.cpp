@@ -4,39 +4,9 @@
 #include <algorithm>
 #include <cmath>
 
+#include <tbb/parallel_for.h>
+
 #include "fill/centre_grid.hpp"
-
-namespace pfill {
-
-std::vector<Vec3> find_voids(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit) {
-  std::vector<Vec3> voids;
-  CentreGrid grid(particles.positions, clearance);
-  const double c2 = clearance * clearance;
-  uint32_t next_id = static_cast<uint32_t>(particles.size());
-  auto taken = [&](const Vec3& p) {
-    bool near = false;
-    grid.for_near(p, [&](uint32_t id) {
-      if (near) return;
-      const Vec3 q = id < particles.size() ? particles.positions[id] : voids[id - particles.size()];
-      const Vec3 d = q - p;
-      near = dot(d, d) < c2;
-    });
-    return near;
-  };
-  for (int k = 0; k < sdf.dims[2] && voids.size() < limit; ++k)
-    for (int j = 0; j < sdf.dims[1] && voids.size() < limit; ++j)
-      for (int i = 0; i < sdf.dims[0] && voids.size() < limit; ++i) {
-        if (-sdf.at(i, j, k) < radius) continue;
-        const Vec3 p = sdf.point(i, j, k);
-        if (taken(p)) continue;
-        voids.push_back(p);
-        grid.insert(p, next_id++);
-      }
-  return voids;
-}
-
-}  // namespace pfill
 
 namespace pfill {
 namespace {
@@ -75,16 +45,19 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
     Vec3 p;
     double d;
   };
-  std::vector<Candidate> cands;
-  for (int k = 0; k < sdf.dims[2]; ++k)
+  std::vector<std::vector<Candidate>> slices(static_cast<size_t>(std::max(0, sdf.dims[2])));
+  tbb::parallel_for(0, sdf.dims[2], [&](int k) {  // (no hole is taken yet: `nearest` only reads)
     for (int j = 0; j < sdf.dims[1]; ++j)
       for (int i = 0; i < sdf.dims[0]; ++i) {
         if (-sdf.at(i, j, k) < radius) continue;
         const Vec3 p = sdf.point(i, j, k);
         const double d = nearest(p);
-        if (d >= clearance - miss) cands.push_back({p, d});
+        if (d >= clearance - miss) slices[static_cast<size_t>(k)].push_back({p, d});
       }
-  std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.d > b.d; });
+  });
+  std::vector<Candidate> cands;
+  for (const auto& slice : slices) cands.insert(cands.end(), slice.begin(), slice.end());
+  std::stable_sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.d > b.d; });
   // ... climbed to where the nearest centre is farthest (staying r deep), and
   // taken, largest first, where that reaches the clearance.
   static const Vec3 dirs[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
