@@ -302,6 +302,7 @@ class FillRun {
     s.max_overlap = o_.max_overlap;
     s.hole_rounds = o_.void_rounds;
     s.hole_clearance = o_.void_clearance * 2 * o_.rest_distance;
+    s.fit_clearance = 2 * o_.rest_distance;
     return s;
   }
 
@@ -313,16 +314,19 @@ class FillRun {
         repair_containment(*boundary_, particles_, o_.containment_tolerance, o_.max_overlap);
     // Holes the field hid (near the wall) or the repair opened take a sphere
     // where, by exact distances, one fits inside without overlap.
-    for (int k = 0; k < 32; ++k) {
-      const Hole h = largest_hole(*boundary_, particles_, radius_);
-      if (h.gap_over_r < 1) break;
+    // (A hole "fits" a sphere at the rest distance: 2r, or more for sparse fills.)
+    Hole h = largest_hole(*boundary_, particles_, radius_);
+    for (int k = 0; k < 32 && o_.void_rounds > 0 && h.gap_over_r >= 2 * o_.rest_distance - 1; ++k) {
       particles_.positions.push_back(h.centre);
       particles_.radii.push_back(radius_);
       ++result_.voids_filled;
+      h = largest_hole(*boundary_, particles_, radius_);
     }
     MetricsOptions mo;
     mo.containment_tolerance = o_.containment_tolerance;
+    mo.holes = false;  // measured just now
     result_.metrics = measure_packing(*boundary_, volume_, particles_, mo);
+    result_.metrics.largest_hole = h.gap_over_r;
     ColourOptions colour = o_.colour ? *o_.colour : ColourOptions{default_colour_mode(mesh_), {}};
     const std::string note = colour_particles(*boundary_, particles_, colour);
     if (!note.empty()) result_.warnings.push_back(note);

@@ -104,7 +104,9 @@ class Finisher {
     // Holes a sphere fits in without overlap (a deletion after the last
     // insertion may leave one) take one as they are: nothing to relax.
     now = to_set(engine_->read_particles(), s_.radius);
-    const std::vector<Vec3> fits = find_holes(now, field_, deep_, 2 * s_.radius * (1 + 1e-6), now.size());
+    const std::vector<Vec3> fits = s_.hole_rounds > 0
+                                       ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size())
+                                       : std::vector<Vec3>{};
     for (const Vec3& p : fits) {
       now.positions.push_back(p);
       now.radii.push_back(s_.radius);

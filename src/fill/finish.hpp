@@ -27,7 +27,8 @@ struct FinishSettings {
   int max_rounds = 30;          ///< relaxations, each followed by removals or insertions
   double removal_share = 0.5;   ///< share of the estimated excess removed after a jammed relaxation
   double hole_clearance = 1.9;  ///< a hole takes a sphere where the nearest centre is this many r away
-  int hole_rounds = 3;          ///< rounds of insertions into holes
+  int hole_rounds = 3;          ///< rounds of insertions into holes (0: none, not even where a sphere fits)
+  double fit_clearance = 2;     ///< then, a hole where the nearest centre is this many r away takes a sphere as it is
   double wall_margin = 0.01;    ///< centres kept this many r further inside than the field says (bunny: 30 spheres the exact check removed at 0, none at 0.01)
 };
 
