@@ -33,7 +33,7 @@ struct FinishSettings {
 };
 
 struct FinishStats {
-  size_t removed = 0;     ///< spheres deleted because no arrangement met the bound
+  size_t removed = 0;     ///< spheres deleted because no arrangement met the bound (and any the wall flagged outside)
   size_t inserted = 0;    ///< spheres inserted into holes (some may have been deleted again)
   size_t rounds = 0;      ///< relaxations
   uint64_t steps = 0;     ///< relaxation steps
