@@ -33,9 +33,9 @@ void check_quality(const FillResult& r, double min_packing, double max_packing) 
   CHECK(r.metrics.packing_fraction <= max_packing);
   CHECK(r.metrics.mean_coordination > 3.0);
   CHECK_FALSE(r.stop_signal.empty());
-  REQUIRE(r.passes.size() == 5);
+  REQUIRE(r.passes.size() == 4);
   CHECK(r.passes[0].name == "pass 1");
-  CHECK(r.passes[4].name == "voids");
+  CHECK(r.passes[3].name == "finish");
 }
 
 }  // namespace

@@ -87,7 +87,7 @@ TEST_CASE("repair_containment moves crossing spheres inside and removes those wi
   CHECK(big.size() == 0);
 }
 
-TEST_CASE("find_voids finds the one hole of a lattice with a sphere taken out, and nothing in a full one") {
+TEST_CASE("find_holes finds the one hole of a lattice with a sphere taken out, and nothing in a full one") {
   const double r = 0.1;
   ParticleSet full;
   for (int i = -3; i <= 3; ++i)
@@ -103,15 +103,67 @@ TEST_CASE("find_voids finds the one hole of a lattice with a sphere taken out, a
   sdf.dims = {49, 49, 49};
   sdf.values.assign(49 * 49 * 49, -1.0f);
   const double clearance = 1.8 * r;  // more than the lattice's biggest gap, sqrt(3) r
-  CHECK(find_voids(full, sdf, r, clearance, 100).empty());
+  CHECK(find_holes(full, sdf, r, clearance, 100).empty());
 
   ParticleSet holed = full;
   const size_t centre = holed.positions.size() / 2;  // the sphere at the origin
   REQUIRE(length(holed.positions[centre]) < 1e-12);
   holed.positions.erase(holed.positions.begin() + centre);
   holed.radii.erase(holed.radii.begin() + centre);
-  const std::vector<Vec3> voids = find_voids(holed, sdf, r, clearance, 100);
+  const std::vector<Vec3> voids = find_holes(holed, sdf, r, clearance, 100);
   REQUIRE(voids.size() == 1);
   CHECK(length(voids[0]) <= 0.2 * r + 1e-9);
-  CHECK(find_voids(holed, sdf, r, clearance, 0).empty());
+  CHECK(find_holes(holed, sdf, r, clearance, 0).empty());
+}
+
+TEST_CASE("find_holes climbs to a hole between grid points and takes only holes a sphere fits in") {
+  const double r = 0.1;
+  ParticleSet full;
+  for (int i = -3; i <= 3; ++i)
+    for (int j = -3; j <= 3; ++j)
+      for (int k = -3; k <= 3; ++k) {
+        full.positions.push_back(Vec3(i, j, k) * (2 * r) + Vec3(0.013, -0.021, 0.017));  // off the grid
+        full.radii.push_back(r);
+      }
+  ScalarGrid sdf;  // coarse (0.33 r, as fills use), every sample deep enough
+  sdf.origin = {-0.66, -0.66, -0.66};
+  sdf.spacing = r / 3;
+  sdf.dims = {41, 41, 41};
+  sdf.values.assign(41 * 41 * 41, -1.0f);
+  CHECK(find_holes(full, sdf, r, 1.9 * r, 100).empty());  // the lattice's gaps reach sqrt(3) r only
+  ParticleSet holed = full;
+  const size_t centre = holed.positions.size() / 2;
+  const Vec3 taken = holed.positions[centre];
+  holed.positions.erase(holed.positions.begin() + centre);
+  holed.radii.erase(holed.radii.begin() + centre);
+  // The hole's centre lies between grid points; the climb finds it to within
+  // a hundredth or two of r, where a sphere nearly fits with no overlap (1.99 r).
+  const std::vector<Vec3> holes = find_holes(holed, sdf, r, 1.99 * r, 100);
+  REQUIRE(holes.size() == 1);
+  CHECK(length(holes[0] - taken) < 0.02 * r);
+}
+
+TEST_CASE("largest empty hole and closest centres of a lattice, full and with a sphere taken out") {
+  const double r = 0.1;
+  const Boundary b(make_cube(1.0, 2));
+  // A lattice of spacing 2.02 r filling the cube [-1, 1]^3: its largest gap
+  // is at the centre of a lattice cube, sqrt(3) 1.01 r from 8 centres (the
+  // layer next to the wall holds none as wide).
+  ParticleSet fills;
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -4; j <= 4; ++j)
+      for (int k = -4; k <= 4; ++k) {
+        fills.positions.push_back(Vec3(i, j, k) * (2.02 * r));
+        fills.radii.push_back(r);
+      }
+  const PackingMetrics m = measure_packing(b, 8.0, fills);
+  CHECK(m.min_distance == doctest::Approx(1.01));
+  CHECK(m.largest_hole == doctest::Approx(std::sqrt(3.0) * 1.01 - 1).epsilon(0.01));
+  ParticleSet holed = fills;
+  const size_t centre = holed.positions.size() / 2;
+  REQUIRE(length(holed.positions[centre]) < 1e-12);
+  holed.positions.erase(holed.positions.begin() + centre);
+  holed.radii.erase(holed.radii.begin() + centre);
+  // Where the sphere was: 2.02 r to the nearest centres, 1.02 r to their surfaces.
+  CHECK(largest_hole_over_r(b, holed, r) == doctest::Approx(1.02).epsilon(0.005));
 }

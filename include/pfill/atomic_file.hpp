@@ -4,6 +4,7 @@
 /// the same folder, are flushed to disk, and only then renamed over the
 /// target. Every pfill writer (particles, PNG) goes through this.
 #pragma once
+#include <csignal>
 #include <cstddef>
 #include <cstdio>
 #include <filesystem>
@@ -49,6 +50,12 @@ class AtomicFile {
 /// unlink only), then let the signal end the process as it would have.
 /// Programs call it once at start; a library must not.
 void remove_temporary_files_on_signals();
+
+/// While `flag` is set (not null), a first SIGINT or SIGTERM only stores its
+/// number in *flag, for long work to poll and stop cleanly (the fill's
+/// FillOptions::cancelled); a second one removes the temporary files and ends
+/// the process as above. nullptr restores the plain behaviour.
+void defer_interrupts_to(volatile std::sig_atomic_t* flag);
 
 /// Opens an AtomicFile for `target`, lets `fill` write into it and commits;
 /// if `fill` throws, the temporary file is removed, any existing target is

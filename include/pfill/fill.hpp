@@ -21,7 +21,7 @@ namespace pfill {
 
 /// What a long fill reports while it runs (through FillOptions::progress).
 struct FillProgress {
-  std::string phase;            ///< "field", "pass 1", "pass 2", "settle", "relief", "verify"
+  std::string phase;            ///< "field", "pass 1", "pass 2", "settle", "finish", "verify"
   uint64_t step = 0;            ///< engine steps so far
   size_t particles = 0;
   size_t target = 0;            ///< the count expected when full (an estimate)
@@ -65,18 +65,18 @@ struct FillOptions {
   BlockedSitesSettings blocked;
   uint64_t max_steps = 0;       ///< step budget of pass 1; 0: 100 per expected particle + 20,000
 
-  // Pass 2, settling and overlap relief.
+  // Pass 2 and settling.
   int top_up_patience = 1500;   ///< pass 2 gives up after this many steps without a birth
   double rest_speed = 0.02;     ///< at rest: top speed below this fraction of the speed cap ...
   int rest_steps = 200;         ///< ... for this many steps
   uint64_t settle_budget = 2000;
-  double max_overlap = 0.05;    ///< overlap bound after relief, fraction of r
-  double relief_fraction = 0.02;///< share of overlapping spheres removed per relief round
-  int relief_steps = 300;       ///< damped relaxation steps per relief round
-  int max_relief_rounds = 80;
+
+  // The finish (src/fill/finish.cpp): overlaps relaxed away by moving
+  // spheres, deletions only where that stalls, holes filled.
+  double max_overlap = 0.001;   ///< bound on every pair's overlap after the finish, fraction of r (0: none, below 1e-4 r); README says why 0.1%
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
-  int void_rounds = 2;          ///< rounds of inserting spheres into holes after the relief (0: none)
-  double void_clearance = 0.8;  ///< a hole takes a sphere when the nearest centre is this many rest distances away
+  int void_rounds = 3;          ///< rounds of inserting spheres into holes (0: none)
+  double void_clearance = 0.95; ///< a hole takes a sphere when the nearest centre is this many rest distances away
 
   // Colour: from the surface (vertex colours, texture), by depth, none, or
   // one colour. Empty: surface when the mesh has colours, else none.
@@ -116,9 +116,10 @@ struct FillResult {
   std::string settle_reason;
   size_t lost_outside = 0;      ///< particles the boundary kernel flagged outside and removed
   size_t ke_events = 0, collision_events = 0;
-  size_t relief_removed = 0;    ///< removed to bring overlaps under the bound
-  size_t relief_rounds = 0;
-  size_t voids_filled = 0;      ///< spheres inserted into holes after the relief (some may go again)
+  size_t relief_removed = 0;    ///< deleted by the finish: no arrangement met the bound there (and any flagged outside)
+  size_t relief_forced = 0;     ///< of those: one of each pair still over the bound when the finish's rounds ran out
+  size_t relief_rounds = 0;     ///< the finish's relaxations
+  size_t voids_filled = 0;      ///< spheres the finish inserted into holes (some may have gone again)
   ContainmentRepair containment;
   std::vector<PassStats> passes;
   std::vector<BirthSite> sites;

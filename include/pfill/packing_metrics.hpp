@@ -25,12 +25,33 @@ struct PackingMetrics {
   double max_overlap = 0;          ///< largest (r_i + r_j - d) / r
   double mean_coordination = 0;    ///< contacts per sphere (gap below contact_gap r)
   double containment_tolerance = 0;
+  double min_distance = 0;         ///< smallest centre distance over r_i + r_j (1: touching; < 1: overlapping)
+  /// Largest empty hole: the largest distance from a point at least r
+  /// inside the mesh to the nearest sphere's surface, over r (r the mean
+  /// radius). At 1 or more a sphere fits there, inside and overlapping
+  /// none. Negative when not measured (MetricsOptions::holes).
+  double largest_hole = -1;
 };
 
 struct MetricsOptions {
   double containment_tolerance = 0.01;  ///< a sphere may cross the surface by this fraction of r
   double contact_gap = 0.02;            ///< spheres closer than r_i + r_j + gap * r touch
+  bool holes = true;                    ///< measure the largest empty hole (largest_hole_over_r)
 };
+
+/// The largest empty hole of PackingMetrics::largest_hole, in units of
+/// `radius`: grid points at r/2 near the spheres, the best of them checked
+/// with exact distances and then climbed to the local maximum. Holes wider
+/// than 2 r count as 2 r. Parallel.
+double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particles, double radius);
+
+/// The same hole and where it is: a sphere of `radius` centred there lies
+/// inside and overlaps none when gap_over_r >= 1.
+struct Hole {
+  Vec3 centre;
+  double gap_over_r = 0;
+};
+Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius);
 
 /// Measures `particles` in the mesh of `boundary` (whose volume is given,
 /// since open meshes need the estimate from diagnose()). Parallel.

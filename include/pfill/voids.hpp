@@ -10,11 +10,12 @@
 
 namespace pfill {
 
-/// Grid points of `sdf` at least `radius` inside the surface whose nearest
-/// centre in `particles` is at least `clearance` away, chosen greedily in
-/// grid order so that the chosen points
-/// are also `clearance` apart. At most `limit` points.
-std::vector<Vec3> find_voids(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
+/// Points at least `radius` inside (by `sdf`) whose nearest centre is at
+/// least `clearance` away, each climbed from a grid point to where its
+/// nearest centre is farthest, so that holes between grid points are found
+/// too; largest first, the chosen points `clearance` apart. At most `limit`.
+/// With clearance 2 r, a sphere fits at each without overlap.
+std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
                              size_t limit);
 
 }  // namespace pfill

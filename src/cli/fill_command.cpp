@@ -159,7 +159,12 @@ void run_fill(FillArgs& a) {
     a.options.on_frame = [&frames](uint64_t, const ParticleSet& s) { frames->write(s); };
   }
   if (!a.quiet) std::fprintf(stderr, "pfill: filling %s\n", mesh.source.c_str());
+  // Ctrl-C stops the fill at its next sync (pfill::Cancelled); a second one ends pfill at once.
+  static volatile std::sig_atomic_t interrupted = 0;
+  a.options.cancelled = [] { return interrupted != 0; };
+  defer_interrupts_to(&interrupted);
   const FillResult r = fill(mesh, a.options);
+  defer_interrupts_to(nullptr);
   printer.end_line();
   for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
 
@@ -183,10 +188,12 @@ void run_fill(FillArgs& a) {
   print_metrics(stdout, r.metrics);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
-  std::printf("  added           %s into holes after the relief\n", thousands(r.voids_filled).c_str());
-  std::printf("  removed         %s flagged outside, %s for overlaps (%s rounds), %s by the exact check (%s moved in)\n",
-              thousands(r.lost_outside).c_str(), thousands(r.relief_removed).c_str(),
-              thousands(r.relief_rounds).c_str(), thousands(r.containment.removed).c_str(),
+  std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
+              thousands(r.relief_rounds).c_str(), thousands(r.voids_filled).c_str(),
+              thousands(r.relief_removed).c_str(),
+              r.relief_forced ? (" (" + thousands(r.relief_forced) + " when the rounds ran out)").c_str() : "");
+  std::printf("  removed         %s flagged outside, %s by the exact check (%s moved in)\n",
+              thousands(r.lost_outside).c_str(), thousands(r.containment.removed).c_str(),
               thousands(r.containment.moved).c_str());
   std::string passes;
   for (const PassStats& p : r.passes)
@@ -245,12 +252,12 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
       ->capture_default_str();
-  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes after the relief")
+  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
       ->capture_default_str();
   cmd->add_option("--void-clearance", o.void_clearance,
                   "A hole takes a sphere when the nearest centre is this many rest distances away")
       ->capture_default_str();
-  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap left after relief, fraction of r")
+  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap of any pair after the finish, fraction of r (0: none)")
       ->capture_default_str();
   cmd->add_option("--colour", a->colour,
                   "Particle colours: surface (the mesh's colours/texture), depth, none or #RRGGBB "

@@ -16,8 +16,11 @@ inline void print_metrics(std::FILE* out, const PackingMetrics& m) {
   std::fprintf(out, "  containment      %.2f%% of spheres inside (tolerance %.0f%% of r); largest penetration %.2f%% of r%s\n",
                100 * m.contained_share, 100 * m.containment_tolerance, 100 * m.max_penetration,
                m.centres_outside ? (", " + thousands(m.centres_outside) + " centres outside").c_str() : "");
-  std::fprintf(out, "  overlaps         %s pairs; mean %.2f%%, largest %.2f%% of r\n",
-               thousands(m.overlapping_pairs).c_str(), 100 * m.mean_overlap, 100 * m.max_overlap);
+  std::fprintf(out, "  overlaps         %s pairs; mean %.3g%%, largest %.3g%% of r; closest centres %.6f of r_i + r_j\n",
+               thousands(m.overlapping_pairs).c_str(), 100 * m.mean_overlap, 100 * m.max_overlap, m.min_distance);
+  if (m.largest_hole >= 0)
+    std::fprintf(out, "  holes            largest empty hole %.3f r (%s)\n", m.largest_hole,
+                 m.largest_hole >= 1 ? "a sphere fits there" : "no room for another sphere");
   std::fprintf(out, "  coordination     %.2f contacts per sphere\n", m.mean_coordination);
 }
 

@@ -4,8 +4,9 @@
 //   pass 1:  while not overfull: births at the sites; update
 //   pass 2:  MaxParts = count - 1; top up to MaxParts (refill what was lost)
 //   settle:  update until at rest
-//   relief:  damped repulsive relaxation, removing the most-overlapped few
-//   voids:   insert spheres into holes the jammed packing left; relieve again
+//   finish:  relax overlaps away by moving spheres (a damped repulsive
+//            minimisation at a contact distance inflated by the bound);
+//            delete only where it stalls over the bound; fill holes
 //   verify:  exact containment repair and metrics
 //
 // The host never reads positions per step: it runs `sync_every` steps,
@@ -26,7 +27,7 @@
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/sdf.hpp"
-#include "pfill/voids.hpp"
+#include "fill/finish.hpp"
 
 namespace pfill {
 namespace {
@@ -67,8 +68,7 @@ class FillRun {
     pass1();
     pass2();
     settle();
-    relieve();
-    fill_voids();
+    finish();
     verify();
     result_.seconds = seconds_since(start_);
     result_.steps = fill_steps_ + relax_steps_;
@@ -186,7 +186,7 @@ class FillRun {
     need(o_.birth_every >= 1, "--birth-every must be >= 1");
     need(o_.birth_speed_min >= 0 && o_.birth_speed_max >= o_.birth_speed_min && o_.birth_speed_max <= 1,
          "birth speeds must satisfy 0 <= min <= max <= 1 (fractions of the top speed)");
-    need(o_.max_overlap > 0 && o_.max_overlap < 1, "--max-overlap must be in (0, 1)");
+    need(o_.max_overlap >= 0 && o_.max_overlap < 1, "--max-overlap must be in [0, 1) (a fraction of r)");
     need(o_.field_spacing > 0 && o_.field_spacing <= 2, "the field spacing must be in (0, 2] radii");
     need(o_.time_step > 0 && o_.time_step <= 0.05, "--time-step must be in (0, 0.05] tau");
     need(o_.sync_every >= 1 && o_.sync_every <= 1000, "sync_every must be 1..1000");
@@ -214,9 +214,8 @@ class FillRun {
          "--restitution and --wall-restitution must be in [0, 1]");
     need(std::isfinite(o_.damping) && o_.damping >= 0, "--damping must be >= 0");
     need(o_.skin >= 0 && o_.skin <= 5, "--skin must be in [0, 5] sigma (0: automatic)");
-    need(o_.top_up_patience >= 1 && o_.relief_steps >= 1 && o_.max_relief_rounds >= 0 &&
-             o_.max_relief_rounds <= 10'000 && o_.rest_steps >= 1 && o_.rest_speed > 0,
-         "the settling and relief settings must be positive");
+    need(o_.top_up_patience >= 1 && o_.rest_steps >= 1 && o_.rest_speed > 0,
+         "the settling settings must be positive");
   }
 
   // ---- pass 1: births until the object is overfull ----
@@ -307,99 +306,36 @@ class FillRun {
     result_.passes.push_back({"settle", engine_->steps_done() - first, seconds_since(t)});
   }
 
-  // ---- relief: damped repulsive relaxation, removing the most overlapped ----
-  void relieve() {
+  // ---- finish: overlaps resolved by moving spheres; holes filled (finish.cpp) ----
+  void finish() {
     const auto t = Clock::now();
-    phase_ = "relief";
-    EngineParams relax = params_;
-    relax.cutoff_sigma = 0;     // purely repulsive: attraction would pull spheres together
-    relax.restitution = 0;
-    relax.wall_restitution = 0;
-    relax.damping = -std::log(0.9) / derive_constants(relax).dt;  // speeds fall 10% a step
-    relaxer_ = std::make_unique<Engine>(*device_, relax);
-    relaxer_->set_field(field_);
-    std::vector<Particle> ps = engine_->read_particles();
-    for (Particle& p : ps) p.velocity = {};
-    relaxer_->add_particles(ps);
+    phase_ = "finish";
     fill_steps_ = engine_->steps_done();
-    engine_.reset();  // the relaxer holds the particles from here on
-    relieve_overlaps();
-    result_.passes.push_back({"relief", relax_steps_, seconds_since(t)});
+    const std::vector<Particle> ps = engine_->read_particles();
+    engine_.reset();  // the finish holds the particles from here on
+    const FinishSettings s = finish_settings();
+    FinishStats stats;
+    particles_ = finish_packing(*device_, params_, field_, ps, s, stats,
+                                [&](size_t n, uint32_t pairs) { report_particles(n, 0, pairs); });
+    relax_steps_ = stats.steps;
+    result_.relief_removed = stats.removed;
+    result_.relief_forced = stats.forced;
+    result_.relief_rounds = stats.rounds;
+    result_.voids_filled = stats.inserted;
+    next_id_ = stats.next_id;
+    result_.passes.push_back({"finish", stats.steps, seconds_since(t)});
   }
 
-  /// Rounds of relaxation; after each, the worst `relief_fraction` of the
-  /// spheres overlapping more than the bound are removed.
-  void relieve_overlaps() {
-    Engine& relaxer = *relaxer_;
-    for (int round = 0;; ++round) {
-      throw_if_cancelled();
-      relaxer.run_steps(o_.relief_steps);
-      relax_steps_ += o_.relief_steps;
-      relaxer.read_history();
-      relaxer.remove_particles(flagged_of(relaxer));
-      particles_ = to_particle_set(relaxer.read_particles());
-      const std::vector<Overlap> overlaps = find_overlaps(particles_, o_.max_overlap);
-      report_particles(particles_.size(), 0, static_cast<uint32_t>(overlaps.size()));
-      if (overlaps.empty()) {
-        result_.relief_rounds += static_cast<size_t>(round) + 1;
-        break;
-      }
-      // Each sphere's worst overlap.
-      std::vector<double> worst(particles_.size(), 0);
-      for (const Overlap& o : overlaps) {
-        worst[o.i] = std::max(worst[o.i], o.fraction);
-        worst[o.j] = std::max(worst[o.j], o.fraction);
-      }
-      if (round >= o_.max_relief_rounds) {
-        // Out of rounds: one sphere of every pair still over the bound goes,
-        // so the bound holds whatever the rounds achieved.
-        std::vector<bool> gone(particles_.size(), false);
-        std::vector<size_t> out;
-        for (const Overlap& o : overlaps) {
-          if (gone[o.i] || gone[o.j]) continue;
-          const size_t k = worst[o.i] >= worst[o.j] ? o.i : o.j;
-          gone[k] = true;
-          out.push_back(k);
-        }
-        result_.relief_removed += out.size();
-        relaxer.remove_particles(out);
-        particles_ = to_particle_set(relaxer.read_particles());
-        result_.relief_rounds += static_cast<size_t>(round) + 1;
-        break;
-      }
-      // Remove the worst `relief_fraction` of the overlapping spheres.
-      std::vector<size_t> over;
-      for (size_t i = 0; i < worst.size(); ++i)
-        if (worst[i] > 0) over.push_back(i);
-      std::sort(over.begin(), over.end(),
-                [&](size_t a, size_t b) { return worst[a] > worst[b] || (worst[a] == worst[b] && a < b); });
-      const size_t n = std::max<size_t>(1, static_cast<size_t>(std::ceil(o_.relief_fraction * over.size())));
-      over.resize(std::min(n, over.size()));
-      result_.relief_removed += over.size();
-      relaxer.remove_particles(over);
-    }
-  }
-
-  // ---- voids: insert spheres where the jammed packing left room, relieve again ----
-  void fill_voids() {
-    const auto t = Clock::now();
-    const uint64_t first = relax_steps_;
-    phase_ = "voids";
-    for (int round = 0; round < o_.void_rounds; ++round) {
-      const std::vector<Vec3> voids =
-          find_voids(particles_, field_, radius_, o_.void_clearance * rest_distance(), particles_.size());
-      if (voids.empty()) break;
-      std::vector<Particle> newcomers(voids.size());
-      for (size_t k = 0; k < voids.size(); ++k) {
-        newcomers[k].position = voids[k];
-        newcomers[k].radius = radius_;
-        newcomers[k].id = next_id_++;
-      }
-      relaxer_->add_particles(newcomers);
-      result_.voids_filled += voids.size();
-      relieve_overlaps();
-    }
-    result_.passes.push_back({"voids", relax_steps_ - first, seconds_since(t)});
+  FinishSettings finish_settings() const {
+    FinishSettings s;
+    s.radius = radius_;
+    s.max_overlap = o_.max_overlap;
+    s.hole_rounds = o_.void_rounds;
+    s.hole_clearance = o_.void_clearance * 2 * o_.rest_distance;
+    s.fit_clearance = 2 * o_.rest_distance;
+    s.first_id = next_id_;
+    s.cancelled = o_.cancelled;
+    return s;
   }
 
   // ---- verify: exact containment, then the metrics ----
@@ -408,9 +344,26 @@ class FillRun {
     report_particles(particles_.size(), 0, 0);
     result_.containment =
         repair_containment(*boundary_, particles_, o_.containment_tolerance, o_.max_overlap);
+    // Holes the field hid (near the wall) or the repair opened take a sphere
+    // where, by exact distances, one fits inside without overlap.
+    // (A hole "fits" a sphere at the rest distance: 2r, or more for sparse fills.)
+    Hole h = largest_hole(*boundary_, particles_, radius_);
+    // The exact inside test (a majority of rays on open meshes) has the last word.
+    for (int k = 0; k < 32 && o_.void_rounds > 0 && h.gap_over_r >= 2 * o_.rest_distance - 1 &&
+                    boundary_->signed_distance(h.centre) <= -radius_;
+         ++k) {
+      particles_.positions.push_back(h.centre);
+      particles_.radii.push_back(radius_);
+      particles_.ids.push_back(next_id_++);
+      if (particles_.has_velocities()) particles_.velocities.push_back({});
+      ++result_.voids_filled;
+      h = largest_hole(*boundary_, particles_, radius_);
+    }
     MetricsOptions mo;
     mo.containment_tolerance = o_.containment_tolerance;
+    mo.holes = false;  // measured just now
     result_.metrics = measure_packing(*boundary_, volume_, particles_, mo);
+    result_.metrics.largest_hole = h.gap_over_r;
     ColourOptions colour = o_.colour ? *o_.colour : ColourOptions{default_colour_mode(mesh_), {}};
     const std::string note = colour_particles(*boundary_, particles_, colour);
     if (!note.empty()) result_.warnings.push_back(note);
@@ -591,7 +544,6 @@ class FillRun {
   std::unique_ptr<Device> device_;
   EngineParams params_;
   std::unique_ptr<Engine> engine_;
-  std::unique_ptr<Engine> relaxer_;  ///< damped, repulsive: holds the particles from the relief on
   std::vector<StepRecord> history_;
   std::vector<Vec3> snapshot_;
   size_t newest_ = Engine::kGone;  // index of the last particle born (kGone: removed)

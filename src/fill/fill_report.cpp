@@ -14,7 +14,9 @@ nlohmann::ordered_json metrics_json(const PackingMetrics& m) {
           {"overlapping_pairs", m.overlapping_pairs},
           {"mean_overlap", m.mean_overlap},
           {"max_overlap", m.max_overlap},
-          {"mean_coordination", m.mean_coordination}};
+          {"mean_coordination", m.mean_coordination},
+          {"min_distance_over_contact", m.min_distance},
+          {"largest_hole_over_r", m.largest_hole}};
 }
 
 nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& mesh, uint64_t seed,
@@ -37,6 +39,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"settle_reason", r.settle_reason},
           {"lost_outside", r.lost_outside},
           {"relief_removed", r.relief_removed},
+          {"relief_forced", r.relief_forced},
           {"relief_rounds", r.relief_rounds},
           {"voids_filled", r.voids_filled},
           {"containment_moved", r.containment.moved},

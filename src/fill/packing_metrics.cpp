@@ -4,6 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+
+#include <limits>
 
 #include <tbb/parallel_for.h>
 
@@ -66,12 +69,14 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   const CentreGrid grid(particles.positions, 2 * max_radius(particles) * (1 + options.contact_gap));
   size_t contacts = 0;
   double overlap_sum = 0;
+  double min_ratio = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < particles.size(); ++i) {
     grid.for_near(particles.positions[i], [&](uint32_t j) {
       if (j <= i) return;
       const double ri = particles.radii[i], rj = particles.radii[j], mean_r = 0.5 * (ri + rj);
       const double d = length(particles.positions[j] - particles.positions[i]);
       if (d < ri + rj + options.contact_gap * mean_r) ++contacts;
+      min_ratio = std::min(min_ratio, d / (ri + rj));
       const double fraction = (ri + rj - d) / mean_r;
       if (fraction > kTouching) {
         ++m.overlapping_pairs;
@@ -82,7 +87,120 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   }
   m.mean_overlap = m.overlapping_pairs ? overlap_sum / m.overlapping_pairs : 0;
   m.mean_coordination = 2.0 * contacts / particles.size();
+  m.min_distance = std::isfinite(min_ratio) ? min_ratio : 0;
+  if (options.holes) {
+    double mean_r = 0;
+    for (double r : particles.radii) mean_r += r;
+    m.largest_hole = largest_hole_over_r(boundary, particles, mean_r / particles.size());
+  }
   return m;
+}
+
+double largest_hole_over_r(const Boundary& boundary, const ParticleSet& particles, double radius) {
+  return largest_hole(boundary, particles, radius).gap_over_r;
+}
+
+Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius) {
+  if (particles.size() == 0 || !(radius > 0)) return {};
+  const double reach = 3 * radius;  // nearest surfaces searched this far: holes over 2 r count as 2 r
+  const CentreGrid grid(particles.positions, reach);
+  // Distance from p to the nearest sphere's surface (reach - radius when none is in reach).
+  auto gap = [&](const Vec3& p) {
+    double g = reach - radius;
+    grid.for_near(p, [&](uint32_t i) { g = std::min(g, length(particles.positions[i] - p) - particles.radii[i]); });
+    return g;
+  };
+  auto near_any = [&](const Vec3& p) {
+    bool any = false;
+    grid.for_near(p, [&](uint32_t i) { any = any || length(particles.positions[i] - p) < reach; });
+    return any;
+  };
+  Box3 box;
+  for (const Vec3& c : particles.positions) box.add(c);
+  const double h = 0.5 * radius;
+  const Vec3 lo = box.lo - Vec3(reach, reach, reach);
+  const int nx = static_cast<int>(std::ceil((box.hi.x - box.lo.x + 2 * reach) / h)) + 1;
+  const int ny = static_cast<int>(std::ceil((box.hi.y - box.lo.y + 2 * reach) / h)) + 1;
+  const int nz = static_cast<int>(std::ceil((box.hi.z - box.lo.z + 2 * reach) / h)) + 1;
+  // Grid points near the spheres with room beyond touching, by slices in parallel.
+  struct Candidate {
+    Vec3 p;
+    double gap;
+  };
+  std::vector<std::vector<Candidate>> slices(static_cast<size_t>(nz));
+  tbb::parallel_for(0, nz, [&](int k) {
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i) {
+        const Vec3 p = lo + Vec3(i, j, k) * h;
+        if (!near_any(p)) continue;
+        const double g = gap(p);
+        if (g > 0) slices[static_cast<size_t>(k)].push_back({p, g});
+      }
+  });
+  std::vector<Candidate> cands;
+  for (auto& s : slices) cands.insert(cands.end(), s.begin(), s.end());
+  std::sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) {
+    return a.gap > b.gap || (a.gap == b.gap && std::tie(a.p.x, a.p.y, a.p.z) < std::tie(b.p.x, b.p.y, b.p.z));
+  });
+  // The largest gaps first, each checked for depth >= r with exact distances,
+  // until no unchecked point can beat the best (points outside the mesh fail).
+  auto deep = [&](const Vec3& p) { return boundary.fast_signed_distance(p, std::numeric_limits<double>::infinity()) <= -radius; };
+  double best = 0;
+  Vec3 best_at;
+  std::vector<Candidate> accepted;
+  constexpr size_t kBatch = 4096;
+  for (size_t first = 0; first < cands.size() && cands[first].gap > best - h; first += kBatch) {
+    const size_t last = std::min(cands.size(), first + kBatch);
+    std::vector<uint8_t> ok(last - first);
+    tbb::parallel_for(first, last, [&](size_t c) { ok[c - first] = deep(cands[c].p); });
+    for (size_t c = first; c < last; ++c)
+      if (ok[c - first]) {
+        if (cands[c].gap > best) {
+          best = cands[c].gap;
+          best_at = cands[c].p;
+        }
+        accepted.push_back(cands[c]);
+      }
+  }
+  // Climb from the best grid points (distinct holes) to the local maximum of
+  // the gap, staying at least r deep: the grid misses up to 0.43 r.
+  std::vector<Vec3> seeds;
+  for (const Candidate& c : accepted) {
+    if (c.gap < best - h || seeds.size() >= 64) break;
+    bool seen = false;
+    for (const Vec3& s : seeds) seen = seen || length(s - c.p) < radius;
+    if (!seen) seeds.push_back(c.p);
+  }
+  std::vector<double> climbed(seeds.size(), 0);
+  std::vector<Vec3> climbed_to(seeds.size());
+  tbb::parallel_for(size_t(0), seeds.size(), [&](size_t k) {
+    Vec3 p = seeds[k];
+    double g = gap(p);
+    static const Vec3 dirs[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
+                                {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
+                                {-1, -1, 1}, {-1, -1, -1}};
+    for (double step = 0.5 * h; step > 0.002 * radius;) {
+      bool moved = false;
+      for (const Vec3& d : dirs) {
+        const Vec3 q = p + d * (step / length(d));
+        const double gq = gap(q);
+        if (gq > g && deep(q)) {
+          p = q;
+          g = gq;
+          moved = true;
+        }
+      }
+      if (!moved) step *= 0.5;
+    }
+    climbed[k] = g;
+    climbed_to[k] = p;
+  });
+  for (size_t k = 0; k < climbed.size(); ++k)
+    if (climbed[k] > best) {
+      best = climbed[k];
+      best_at = climbed_to[k];
+    }
+  return {best_at, best / radius};
 }
 
 ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& particles, double tolerance,

@@ -51,7 +51,15 @@ void unregister_temporary(int slot) {
   if (slot >= 0) temporary_slots[slot].state.store(0);
 }
 
+// Where a first SIGINT or SIGTERM is only noted (defer_interrupts_to).
+std::atomic<volatile std::sig_atomic_t*> deferred_interrupt{nullptr};
+
 extern "C" void remove_temporaries_and_reraise(int signal_number) {
+  volatile std::sig_atomic_t* noted = deferred_interrupt.load();
+  if (noted && *noted == 0 && signal_number != SIGHUP) {
+    *noted = signal_number;  // the work polls it and stops cleanly; a second signal ends the process
+    return;
+  }
   for (TemporarySlot& slot : temporary_slots)
     if (slot.state.load() == 2) ::unlink(slot.path);  // async-signal-safe
   std::signal(signal_number, SIG_DFL);
@@ -153,9 +161,11 @@ void remove_temporary_files_on_signals() {
   struct sigaction action {};
   action.sa_handler = remove_temporaries_and_reraise;
   sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESETHAND;
+  action.sa_flags = 0;  // the handler itself restores the default before re-raising
   for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signal_number, &action, nullptr);
 }
+
+void defer_interrupts_to(volatile std::sig_atomic_t* flag) { deferred_interrupt.store(flag); }
 
 void write_file_atomically(const fs::path& target, const std::function<void(AtomicFile&)>& fill) {
   AtomicFile file(target);

@@ -1,0 +1,273 @@
+// The finish (see finish.hpp). Overlaps are resolved by moving spheres: a
+// lightly damped, purely repulsive relaxation (inertia carries it through
+// the packing's soft modes faster than strong damping) whose rest distance
+// is set by the bound (finish_inflation), with the wall keeping every centre
+// inside. The engine's spheres are smaller than r by half the bound, so the
+// colliding pairs it counts each step are the pairs over the bound: a
+// relaxation ends when that count is 0 or stops falling, with no positions
+// read. Only when it stalls above 0 is the packing too full there: then the
+// most compressed spheres go, about half of the excess the overlaps imply,
+// never two touching ones in a round, and the relaxation runs again. Holes
+// the relaxed packing leaves get a sphere, relaxed in, a few rounds; then
+// every hole a sphere fits without overlap gets one as it is. If the rounds
+// run out, one sphere of each pair still over the bound goes, so the bound
+// always holds.
+//
+// The device runs the relaxation; the host reads the step history every
+// `chunk_steps` steps (a few scalars) and the positions once a relaxation.
+#include "fill/finish.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+#include "pfill/error.hpp"
+#include "pfill/packing_metrics.hpp"
+#include "pfill/voids.hpp"
+
+namespace pfill {
+namespace {
+
+ParticleSet to_set(const std::vector<Particle>& ps, double radius) {
+  ParticleSet set;
+  set.positions.reserve(ps.size());
+  set.radii.assign(ps.size(), radius);
+  set.ids.reserve(ps.size());
+  set.velocities.reserve(ps.size());
+  for (const Particle& p : ps) {
+    set.positions.push_back(p.position);
+    set.ids.push_back(p.id);
+    set.velocities.push_back(p.velocity);
+  }
+  return set;
+}
+
+class Finisher {
+ public:
+  Finisher(Device& device, const EngineParams& base, const ScalarGrid& field, const FinishSettings& s,
+           FinishStats& stats)
+      : s_(s), field_(field), stats_(stats) {
+    const double inflation = std::isnan(s.inflation) ? finish_inflation(s.max_overlap) : s.inflation;
+    // The engine's spheres are smaller by half the bound, so that the
+    // colliding pairs it counts every step are those over the bound, and
+    // its wall moves in by as much, so that centres stay r inside.
+    engine_radius_ = s.radius * (1 - 0.5 * s.max_overlap);
+    deep_ = s.radius * (1 + s.wall_margin);
+    ScalarGrid wall = field;
+    // The wall also keeps `wall_margin` r more: the field, interpolated,
+    // misses some of the surface's bends, which the exact check then finds.
+    for (float& v : wall.values) v += static_cast<float>(s.radius * (1 + s.wall_margin) - engine_radius_);
+    EngineParams p = base;
+    p.cutoff_sigma = 0;  // purely repulsive: attraction would pull spheres together
+    p.rest_distance = 2 * s.radius * (1 + inflation);
+    p.max_radius = std::max(base.max_radius, s.radius * (1 + 1e-6));
+    p.restitution = 0;
+    p.wall_restitution = 0;
+    p.dt = 0;
+    p.dt = s.time_step * derive_constants(p).tau;
+    p.damping = -std::log(1 - s.damping) / p.dt;
+    p.history_capacity = std::max<size_t>(p.history_capacity, static_cast<size_t>(s.chunk_steps) + 8);
+    p.radius = engine_radius_;
+    engine_ = std::make_unique<Engine>(device, p);
+    engine_->set_field(wall);
+  }
+
+  ParticleSet run(const std::vector<Particle>& particles) {
+    std::vector<Particle> ps = particles;
+    for (Particle& p : ps) {
+      p.velocity = {};
+      p.radius = engine_radius_;
+      p.mass = 0;
+    }
+    engine_->add_particles(ps);
+    int holes_done = 0;
+    ParticleSet now;
+    for (int round = 0;; ++round) {
+      relax();
+      now = to_set(engine_->read_particles(), s_.radius);
+      const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
+      size_t over = 0;
+      for (const Overlap& o : overlaps) over += o.fraction > s_.max_overlap;
+      if (over > 0) {
+        if (round + 1 >= s_.max_rounds) {
+          remove_one_of_each(now, overlaps);
+          break;
+        }
+        remove_most_compressed(now, overlaps);
+        continue;
+      }
+      if (holes_done >= s_.hole_rounds || round + 1 >= s_.max_rounds) break;
+      const std::vector<Vec3> holes = find_holes(now, field_, deep_, s_.hole_clearance * s_.radius, now.size());
+      if (holes.empty()) break;
+      ++holes_done;
+      std::vector<Particle> newcomers(holes.size());
+      for (size_t k = 0; k < holes.size(); ++k) {
+        newcomers[k].position = holes[k];
+        newcomers[k].radius = engine_radius_;
+        newcomers[k].id = next_id_++;
+      }
+      engine_->add_particles(newcomers);
+      stats_.inserted += holes.size();
+    }
+    // Holes a sphere fits in without overlap (a deletion after the last
+    // insertion may leave one) take one as they are: nothing to relax.
+    now = to_set(engine_->read_particles(), s_.radius);
+    const std::vector<Vec3> fits = s_.hole_rounds > 0
+                                       ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size())
+                                       : std::vector<Vec3>{};
+    for (const Vec3& p : fits) {
+      now.positions.push_back(p);
+      now.radii.push_back(s_.radius);
+      now.ids.push_back(next_id_++);
+      now.velocities.push_back({});
+    }
+    stats_.inserted += fits.size();
+    stats_.next_id = next_id_;
+    return now;
+  }
+
+  void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
+
+ private:
+  /// Steps until no pair is over the bound, the count of those stops
+  /// falling, or the budget runs out; removes any the wall flagged outside.
+  void relax() {
+    ++stats_.rounds;
+    uint64_t done = 0;
+    uint32_t pairs = 0, fewest = UINT32_MAX;
+    int since_fewer = 0;
+    while (done < s_.relax_steps) {
+      if (s_.cancelled && s_.cancelled()) throw Cancelled();
+      engine_->run_steps(static_cast<size_t>(s_.chunk_steps));
+      done += static_cast<uint64_t>(s_.chunk_steps);
+      const std::vector<StepRecord> h = engine_->read_history();
+      if (h.empty()) break;
+      const StepRecord& last = h.back();
+      pairs = last.colliding_pairs;  // pairs over the bound (the engine's spheres are smaller by it)
+      if (pairs == 0) break;
+      // Stalled: the count over the bound has not fallen by a twentieth for `patience` reads.
+      if (pairs < fewest - fewest / 20) {
+        fewest = pairs;
+        since_fewer = 0;
+      } else if (++since_fewer >= s_.patience) {
+        break;
+      }
+    }
+    stats_.steps += done;
+    std::vector<size_t> out = engine_->flagged_particles();
+    engine_->clear_flags();
+    if (!out.empty()) {
+      stats_.removed += out.size();
+      engine_->remove_particles(out);
+    }
+    if (progress_) progress_(engine_->size(), pairs);
+  }
+
+  /// After a stalled relaxation: the spheres pressed hardest go, about
+  /// `removal_share` of the excess the overlaps imply (shrinking a sphere's
+  /// radius by s of r frees 3 s of its volume; a sphere needs to shrink by
+  /// half its worst excess overlap), and no two that overlap each other in
+  /// one round (removing one relieves its neighbours).
+  void remove_most_compressed(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
+    const size_t n = now.size();
+    std::vector<double> need(n, 0), pressed(n, 0);
+    std::vector<std::vector<uint32_t>> touching(n);
+    for (const Overlap& o : overlaps) {
+      const double excess = 0.5 * std::max(0.0, o.fraction - s_.max_overlap);
+      need[o.i] = std::max(need[o.i], excess);
+      need[o.j] = std::max(need[o.j], excess);
+      pressed[o.i] += o.fraction;
+      pressed[o.j] += o.fraction;
+      touching[o.i].push_back(o.j);
+      touching[o.j].push_back(o.i);
+    }
+    double excess = 0;
+    std::vector<size_t> candidates;
+    for (size_t i = 0; i < n; ++i)
+      if (need[i] > 0) {
+        excess += 3 * need[i];
+        candidates.push_back(i);
+      }
+    std::sort(candidates.begin(), candidates.end(),
+              [&](size_t a, size_t b) { return pressed[a] > pressed[b] || (pressed[a] == pressed[b] && a < b); });
+    // Each jam (a cluster of pairs over the bound) that the relaxation could
+    // not undo loses its most pressed sphere at least, so that the rounds
+    // do not grow with the number of jams (that is, with N).
+    std::vector<uint32_t> root(n);
+    for (size_t i = 0; i < n; ++i) root[i] = static_cast<uint32_t>(i);
+    auto find = [&](uint32_t i) {
+      while (root[i] != i) i = root[i] = root[root[i]];
+      return i;
+    };
+    for (const Overlap& o : overlaps)
+      if (o.fraction > s_.max_overlap) root[find(o.i)] = find(o.j);
+    std::vector<bool> blocked(n, false), jam_done(n, false), chosen(n, false);
+    std::vector<size_t> out;
+    auto take = [&](size_t i) {
+      out.push_back(i);
+      chosen[i] = true;
+      jam_done[find(static_cast<uint32_t>(i))] = true;
+      for (uint32_t j : touching[i]) blocked[j] = true;
+    };
+    for (size_t i : candidates)
+      if (!jam_done[find(static_cast<uint32_t>(i))] && !blocked[i]) take(i);
+    const size_t want = static_cast<size_t>(std::ceil(s_.removal_share * excess));
+    for (size_t i : candidates) {
+      if (out.size() >= want) break;
+      if (!blocked[i] && !chosen[i]) take(i);
+    }
+    stats_.removed += out.size();
+    engine_->remove_particles(out);
+  }
+
+  /// Out of rounds: one sphere of every pair still over the bound goes
+  /// (the more pressed one), so the bound holds whatever the rounds did.
+  void remove_one_of_each(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
+    std::vector<double> pressed(now.size(), 0);
+    for (const Overlap& o : overlaps) {
+      pressed[o.i] += o.fraction;
+      pressed[o.j] += o.fraction;
+    }
+    std::vector<bool> gone(now.size(), false);
+    std::vector<size_t> out;
+    for (const Overlap& o : overlaps) {
+      if (o.fraction <= s_.max_overlap || gone[o.i] || gone[o.j]) continue;
+      const size_t k = pressed[o.i] >= pressed[o.j] ? o.i : o.j;
+      gone[k] = true;
+      out.push_back(k);
+    }
+    stats_.removed += out.size();
+    stats_.forced += out.size();
+    engine_->remove_particles(out);
+  }
+
+  FinishSettings s_;
+  const ScalarGrid& field_;
+  FinishStats& stats_;
+  double engine_radius_ = 0;
+  double deep_ = 0;  ///< how deep (by the field) a centre must lie
+  uint64_t next_id_ = s_.first_id;  ///< the next inserted sphere's id
+  std::unique_ptr<Engine> engine_;
+  std::function<void(size_t, uint32_t)> progress_;
+};
+
+}  // namespace
+
+double finish_inflation(double max_overlap) {
+  // Tight bounds: pairs come to rest half the bound apart (plus a little for
+  // rounding), so only pressure brings them over it. Loose bounds (1% of r and
+  // more): pairs rest overlapping by 0.8 of the bound, which packs denser
+  // (spot -n 4000, 5% bound: 0.644 against 0.623 at rest 2r).
+  const double b = max_overlap;
+  return 5e-5 + 0.5 * b - 0.9 * b * std::min(1.0, b / 0.01);
+}
+
+ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
+                           const std::vector<Particle>& particles, const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress) {
+  Finisher f(device, base, field, settings, stats);
+  f.set_progress(progress);
+  return f.run(particles);
+}
+
+}  // namespace pfill

@@ -1,0 +1,61 @@
+// The finish: from a settled, over-full packing (overlaps up to ~20% r) to
+// one whose largest overlap is under a bound, by moving spheres rather than
+// deleting them (see finish.cpp).
+#pragma once
+#include <cmath>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "pfill/engine/engine.hpp"
+#include "pfill/grid.hpp"
+#include "pfill/particles.hpp"
+
+namespace pfill {
+
+class Device;
+
+struct FinishSettings {
+  double radius = 0;            ///< the spheres' radius
+  double max_overlap = 0.001;   ///< bound on every pair's overlap, fraction of r
+  double inflation = std::nan("");  ///< contact distance while relaxing: 2r (1 + inflation); NaN: automatic (finish_inflation)
+  double time_step = 0.03;      ///< relaxation step, in tau of the inflated potential
+  double damping = 0.01;        ///< share of every velocity lost each relaxation step (little: inertia crosses the soft modes faster)
+  int chunk_steps = 100;        ///< relaxation steps between reads of the step history
+  uint64_t relax_steps = 1500;  ///< most steps of one relaxation (it stops earlier when the spheres stall)
+  int patience = 5;             ///< a relaxation has stalled when the pairs over the bound fell by under 5% in this many reads
+  int max_rounds = 30;          ///< relaxations, each followed by removals or insertions
+  double removal_share = 0.5;   ///< share of the estimated excess removed after a jammed relaxation
+  double hole_clearance = 1.9;  ///< a hole takes a sphere where the nearest centre is this many r away
+  int hole_rounds = 3;          ///< rounds of insertions into holes (0: none, not even where a sphere fits)
+  double fit_clearance = 2;     ///< then, a hole where the nearest centre is this many r away takes a sphere as it is
+  uint64_t first_id = 1;        ///< ids given to the spheres inserted into holes, counting up (Particle::id)
+  std::function<bool()> cancelled;  ///< polled at each read of the step history; true: throws pfill::Cancelled
+  double wall_margin = 0.01;    ///< centres kept this many r further inside than the field says (bunny: 30 spheres the exact check removed at 0, none at 0.01)
+};
+
+struct FinishStats {
+  size_t removed = 0;     ///< spheres deleted because no arrangement met the bound (and any the wall flagged outside)
+  size_t inserted = 0;    ///< spheres inserted into holes (some may have been deleted again)
+  size_t rounds = 0;      ///< relaxations
+  uint64_t steps = 0;     ///< relaxation steps
+  size_t forced = 0;      ///< of `removed`: one of each pair still over the bound when the rounds ran out
+  uint64_t next_id = 0;   ///< the id after the last one given to an inserted sphere
+};
+
+/// Relaxes `particles` on a damped, purely repulsive engine whose contact
+/// distance is inflated by the bound (so a relaxed pair ends apart), with the
+/// wall of `field`; deletes the most compressed spheres only when the
+/// relaxation stalls with overlaps over the bound, inserts spheres into the
+/// holes a sphere fits in, and returns the result. `base` supplies the
+/// potential's shape and the device limits. `progress(n, overlapping pairs)`
+/// is called after every relaxation.
+ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
+                           const std::vector<Particle>& particles, const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress = {});
+
+/// The automatic inflation for a bound (fraction of r): a relaxed pair
+/// then sits at least the bound's half apart, well clear of it.
+double finish_inflation(double max_overlap);
+
+}  // namespace pfill

@@ -1,0 +1,118 @@
+// The finish (src/fill/finish.cpp) on sets of spheres whose answers are
+// known: overlaps resolved by moving spheres when there is room, deletions
+// only when there is not, and counted; and whole fills at tight bounds.
+#include <doctest/doctest.h>
+
+#include <cmath>
+
+#include "engine_fixtures.hpp"
+#include "fill/finish.hpp"
+#include "pfill/fill.hpp"
+#include "pfill/packing_metrics.hpp"
+#include "pfill/shapes.hpp"
+
+using namespace pfill;
+using pfill::test::shared_device;
+
+namespace {
+
+constexpr double kR = 0.1;
+constexpr double kBall = 0.7;
+
+/// The signed distance field of a ball of radius kBall, at r / 3.
+ScalarGrid ball_field() {
+  return sampled_grid(kBall + 3 * kR, kR / 3, [](const Vec3& p) { return length(p) - kBall; });
+}
+
+/// A simple cubic lattice of spacing `spacing` whose centres lie within
+/// `extent` of the origin.
+std::vector<Particle> lattice(double spacing, double extent) {
+  std::vector<Particle> ps;
+  const int n = static_cast<int>(extent / spacing) + 1;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        const Vec3 p = Vec3(i, j, k) * spacing + Vec3(0.003, -0.002, 0.001);
+        if (length(p) > extent) continue;
+        Particle q;
+        q.position = p;
+        q.radius = kR;
+        ps.push_back(q);
+      }
+  return ps;
+}
+
+EngineParams base_params() {
+  EngineParams p;
+  p.radius = kR;
+  p.max_radius = kR * (1 + 1e-6);
+  return p;
+}
+
+double worst_overlap(const ParticleSet& s) {
+  double worst = 0;
+  for (const Overlap& o : find_overlaps(s)) worst = std::max(worst, o.fraction);
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("finish: overlapping spheres with room around them are moved apart, none deleted") {
+  // Spacing 1.9 r: every neighbour overlaps by 10% of r; the lattice fills
+  // the inner 0.6 of the ball, so there is room to spread.
+  const std::vector<Particle> ps = lattice(1.9 * kR, 0.6 * kBall);
+  REQUIRE(ps.size() > 30);
+  FinishSettings s;
+  s.radius = kR;
+  s.max_overlap = 0.001;
+  s.hole_rounds = 0;
+  FinishStats stats;
+  const ParticleSet out = finish_packing(shared_device(), base_params(), ball_field(), ps, s, stats);
+  CHECK(stats.removed == 0);
+  CHECK(out.size() == ps.size());
+  CHECK(worst_overlap(out) <= 0.001);
+  for (const Vec3& p : out.positions) CHECK(length(p) <= kBall - kR * (1 - 1e-3));
+}
+
+TEST_CASE("finish: an over-full ball forces deletions, which are counted, and the bound holds") {
+  // Spacing 1.5 r throughout the ball: a packing of 0.9, about 1.6 times what fits.
+  const std::vector<Particle> ps = lattice(1.5 * kR, kBall - kR);
+  REQUIRE(ps.size() > 250);
+  for (double bound : {0.0, 0.001, 0.05}) {
+    CAPTURE(bound);
+    FinishSettings s;
+    s.radius = kR;
+    s.max_overlap = bound;
+    FinishStats stats;
+    const ParticleSet out = finish_packing(shared_device(), base_params(), ball_field(), ps, s, stats);
+    CHECK(stats.removed > 0);
+    CHECK(out.size() + stats.removed == ps.size() + stats.inserted);
+    CHECK(worst_overlap(out) <= std::max(bound, 1e-4));
+    // What a ball of 7 r holds at random: packing 0.45-0.66 (the wall loosens it).
+    const double phi = out.size() * std::pow(kR / kBall, 3);
+    CHECK(phi > 0.45);
+    CHECK(phi < 0.66);
+    for (const Vec3& p : out.positions) CHECK(length(p) <= kBall - kR * (1 - 1e-3));
+  }
+}
+
+TEST_CASE("fill a sphere at a 0.1% bound and at none: bound met, every sphere inside, dense, no hole left") {
+  for (double bound : {0.001, 0.0}) {
+    CAPTURE(bound);
+    FillOptions o;
+    o.count = 250;
+    o.max_overlap = bound;
+    o.colour = ColourOptions{ColourMode::None, {}};
+    const FillResult r = fill(make_icosphere(1.0, 4), o);
+    const PackingMetrics& m = r.metrics;
+    INFO("particles " << m.count << ", packing " << m.packing_fraction << ", max overlap " << m.max_overlap
+                      << ", hole " << m.largest_hole);
+    CHECK(m.max_overlap <= std::max(bound, 1e-4));
+    CHECK(m.contained_share == 1.0);
+    CHECK(m.max_penetration <= 0.01);
+    CHECK(m.count >= 200);  // packing 0.5 and up at this radius
+    CHECK(m.count <= 270);
+    CHECK(m.largest_hole < 1.0);
+    CHECK(m.min_distance >= 1 - 0.5 * std::max(bound, 1e-4));
+  }
+}
