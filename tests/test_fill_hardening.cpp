@@ -155,3 +155,17 @@ TEST_CASE("a radius too large for the mesh: the real depth, and the way out for 
     CHECK(message.find("count") == std::string::npos);
   }
 }
+
+TEST_CASE("a stray vertex far from the rest: one line naming it, at once") {
+  Mesh m = make_icosphere(1.0, 3);
+  m.positions[7] = {1e9, 0, 0};
+  try {
+    fill(m, small_fill(300));
+    FAIL("a mesh 1e9 across with a unit volume was filled");
+  } catch (const Error& e) {
+    const std::string message = e.what();
+    CAPTURE(message);
+    CHECK(message.find("the vertex at (1e+09, 0, 0) a stray?") != std::string::npos);
+    CHECK(message.find("spacing") == std::string::npos);
+  }
+}

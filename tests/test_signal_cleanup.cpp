@@ -61,3 +61,18 @@ TEST_CASE("without a signal, committed files stay and nothing else is left") {
   signal(SIGTERM, SIG_DFL);
   signal(SIGHUP, SIG_DFL);
 }
+
+TEST_CASE("a signal ignored from the start (a background job's SIGINT) stays ignored") {
+  const pid_t child = fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    signal(SIGINT, SIG_IGN);
+    remove_temporary_files_on_signals();
+    ::raise(SIGINT);
+    _exit(7);
+  }
+  int status = 0;
+  REQUIRE(waitpid(child, &status, 0) == child);
+  CHECK(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 7);
+}

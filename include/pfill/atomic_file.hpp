@@ -48,7 +48,8 @@ class AtomicFile {
 /// Installs handlers for SIGINT, SIGTERM and SIGHUP that remove every
 /// temporary file an AtomicFile is writing at that moment (async-signal-safe:
 /// unlink only), then let the signal end the process as it would have.
-/// Programs call it once at start; a library must not.
+/// A signal that was ignored when it is called stays ignored. Programs call
+/// it once at start; a library must not.
 void remove_temporary_files_on_signals();
 
 /// While `flag` is set (not null), a first SIGINT or SIGTERM only stores its

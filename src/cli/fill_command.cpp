@@ -163,7 +163,14 @@ void run_fill(FillArgs& a) {
   static volatile std::sig_atomic_t interrupted = 0;
   a.options.cancelled = [] { return interrupted != 0; };
   defer_interrupts_to(&interrupted);
-  const FillResult r = fill(mesh, a.options);
+  FillResult r;
+  try {
+    r = fill(mesh, a.options);
+  } catch (const Cancelled&) {
+    defer_interrupts_to(nullptr);
+    std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
+    throw ExitStatus{128 + static_cast<int>(interrupted)};  // as a shell reports a process ended by that signal
+  }
   defer_interrupts_to(nullptr);
   printer.end_line();
   for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());

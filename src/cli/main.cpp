@@ -9,7 +9,6 @@
 
 #include "cli/commands.hpp"
 #include "pfill/atomic_file.hpp"
-#include "pfill/error.hpp"
 
 int main(int argc, char** argv) {
   pfill::remove_temporary_files_on_signals();  // Ctrl-C while writing leaves no hidden file
@@ -44,9 +43,6 @@ int main(int argc, char** argv) {
     app.parse(static_cast<int>(args.size()), const_cast<char**>(args.data()));
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? pfill::cli::kExitOk : pfill::cli::kExitUsage;  // --help and --version exit 0
-  } catch (const pfill::Cancelled&) {
-    std::cerr << "\npfill: interrupted: the fill stopped and wrote nothing\n";
-    return 130;  // as a shell reports a process ended by SIGINT
   } catch (const pfill::cli::ExitStatus& e) {
     return e.status;
   } catch (const std::exception& e) {

@@ -586,6 +586,37 @@ std::string no_room_message(const Mesh& mesh, const FillOptions& o) {
          (o.radius > 0 ? "choose a radius below " + fmt(deepest) : std::string("ask for more particles (-n)"));
 }
 
+// A mesh whose box the distance field cannot cover at a spacing near the
+// radius (a stray vertex far from the rest makes one) would build a field
+// of billions of samples or fill nothing: say which vertex lies farthest
+// from the median of all, and stop.
+void refuse_stray_vertices(const Mesh& mesh, const FillOptions& o) {
+  const double volume = diagnose(mesh).volume();
+  const double radius = o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+  if (!(radius > 0) || mesh.positions.empty()) return;
+  const Vec3 size = mesh.bounds().size();
+  const double spacing = o.field_spacing * radius, margin = 2 * radius + 3 * spacing;
+  const double samples = (size.x + 2 * margin) / spacing * ((size.y + 2 * margin) / spacing) *
+                         ((size.z + 2 * margin) / spacing);
+  constexpr double kMostCoarsening = 8;  // the field may be coarsened, but not to several radii
+  if (!(samples > std::pow(kMostCoarsening, 3) * static_cast<double>(o.max_field_samples))) return;
+  Vec3 median;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> values;
+    for (const Vec3& p : mesh.positions) values.push_back(p[a]);
+    std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
+    median[a] = values[values.size() / 2];
+  }
+  size_t stray = 0;
+  for (size_t i = 0; i < mesh.positions.size(); ++i)
+    if (length(mesh.positions[i] - median) > length(mesh.positions[stray] - median)) stray = i;
+  const Vec3& p = mesh.positions[stray];
+  throw Error((mesh.source.empty() ? std::string("the mesh") : mesh.source) + ": its box (" + fmt(size.x) + " x " +
+              fmt(size.y) + " x " + fmt(size.z) + ") is too large for particles of radius " + fmt(radius) +
+              " (a volume of " + fmt(volume) + "): is the vertex at (" + fmt(p.x) + ", " + fmt(p.y) + ", " + fmt(p.z) +
+              ") a stray? remove it, or choose a larger radius");
+}
+
 }  // namespace
 
 FillResult fill(const Mesh& mesh, const FillOptions& options) {
@@ -605,6 +636,7 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
       for (Vec3& p : moved.positions) p += centre;
       options.on_frame(step, moved);
     };
+  refuse_stray_vertices(mesh, options);
   FillRun run(local, o);
   FillResult result;
   try {

@@ -162,7 +162,13 @@ void remove_temporary_files_on_signals() {
   action.sa_handler = remove_temporaries_and_reraise;
   sigemptyset(&action.sa_mask);
   action.sa_flags = 0;  // the handler itself restores the default before re-raising
-  for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) ::sigaction(signal_number, &action, nullptr);
+  for (int signal_number : {SIGINT, SIGTERM, SIGHUP}) {
+    struct sigaction before {};
+    // A signal ignored from the start (a background job's SIGINT, nohup's
+    // SIGHUP) stays ignored.
+    if (::sigaction(signal_number, nullptr, &before) == 0 && before.sa_handler == SIG_IGN) continue;
+    ::sigaction(signal_number, &action, nullptr);
+  }
 }
 
 void defer_interrupts_to(volatile std::sig_atomic_t* flag) { deferred_interrupt.store(flag); }
