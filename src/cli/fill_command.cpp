@@ -239,14 +239,22 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
       ->capture_default_str();
-  cmd->add_option("--sites", o.sites, "Birth sites: the deepest point, then far deep points")->capture_default_str();
+  cmd->add_option("--sites", o.sites,
+                  "Birth sites: 0 = births in waves over sites spread through the inside (one per --site-spacing); "
+                  "N = the deepest point, then far deep points (the report's schedule)")
+      ->capture_default_str();
+  cmd->add_option("--site-spacing", o.site_spacing, "Waves (--sites 0): sites at least this many rest distances apart")
+      ->capture_default_str();
+  cmd->add_option("--site-min-depth", o.site_min_depth, "Waves (--sites 0): sites at least this many radii inside")
+      ->capture_default_str();
   cmd->add_option("--site-depth", o.site_depth_share,
                   "Sites after the first lie at least this share of the deepest point's depth inside")
       ->capture_default_str();
-  cmd->add_option("--birth-every", o.birth_every, "Steps between birth attempts at each site")
+  cmd->add_option("--birth-every", o.birth_every,
+                  "Steps between birth attempts at each site (0 = automatic: 48 for waves, 3 with --sites N)")
       ->capture_default_str();
   cmd->add_option("--birth-clearance", o.birth_clearance,
-                  "A site has room when no centre is within this many rest distances")
+                  "A site has room when no centre is within this many rest distances (0 = automatic: 0.55 for waves, 0.5 with --sites N)")
       ->capture_default_str();
   cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed (default 0.3,0.6)");
   cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
