@@ -264,6 +264,10 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
       ->capture_default_str();
+  cmd->add_option("--stop-share", o.birth_stop_share,
+                  "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
+                  "this share of the particles")
+      ->capture_default_str();
   cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes after the relief")
       ->capture_default_str();
   cmd->add_option("--void-clearance", o.void_clearance,

@@ -17,7 +17,6 @@
 #include <chrono>
 #include <deque>
 #include <cmath>
-#include <cstdlib>
 #include <random>
 
 #include "pfill/boundary.hpp"
@@ -215,23 +214,12 @@ class FillRun {
     // object is full: waves end when births fall to a small share.
     BlockedSitesSettings bs = o_.blocked;
     bs.share = waves_ ? o_.birth_stop_share : 0;
-    if (const char* e = std::getenv("PFILL_DEBUG_SHARE")) bs.share = std::atof(e);
-    if (const char* e = std::getenv("PFILL_DEBUG_PATIENCE")) bs.patience = std::atoi(e);
     BlockedSitesTest blocked(bs);
     phase_ = "pass 1";
     bool overfull = false;
     while (!overfull) {
       const bool hold = ke.waiting() || collisions.waiting();
       const std::vector<int> born = run_batch(!hold);
-      if (std::getenv("PFILL_DEBUG_BIRTHS")) {
-        int nb = 0;
-        for (int b : born) nb += b;
-        static uint64_t last = 0;
-        if (engine_->steps_done() - last >= 256) {
-          last = engine_->steps_done();
-          std::fprintf(stderr, "dbg step %llu n %zu born %d t %.1f\n", (unsigned long long)last, engine_->size(), nb, seconds_since(t));
-        }
-      }
       for (size_t k = 0; k < history_.size() && !overfull; ++k) {
         const StepRecord& r = history_[k];
         const int births = k < born.size() ? born[k] : 0;
