@@ -264,6 +264,7 @@ class FillRun {
     }
     result_.passes.push_back({"pass 1", engine_->steps_done() - first, seconds_since(t)});
     pass1_end_step_ = engine_->steps_done();
+    rate_samples_.clear();  // later steps cost more: time them afresh
   }
 
   // ---- pass 2: MaxParts = count - 1; top up to it ----
@@ -574,8 +575,9 @@ class FillRun {
   /// births still to come (to the expected count, 5% over, as pass 1
   /// ends overfull) at the birth rate of the last half minute. Then the
   /// passes after it, about kStepsAfterPass1 steps, each as dear as a step
-  /// now, scaled to the expected count (a step costs in proportion to the
-  /// particles). Past that many steps after pass 1, -1.
+  /// now (twice, kAfterStepCost), scaled to the expected count (a step
+  /// costs in proportion to the particles). Past that many steps after
+  /// pass 1, -1.
   double time_left(double elapsed, size_t n, uint64_t step) {
     if (phase_ != "pass 1" && phase_ != "pass 2" && phase_ != "settle" && phase_ != "relief" && phase_ != "voids")
       return -1;
@@ -589,7 +591,9 @@ class FillRun {
     if (phase_ == "pass 1") {
       if (n <= first.particles) return -1;
       const double rate = static_cast<double>(n - first.particles) / (elapsed - first.elapsed);
-      return (full - static_cast<double>(n)) / rate + kStepsAfterPass1 * step_when_full;
+      // It ends a patience window after births fade, whatever the count.
+      const double births_left = std::max((full - static_cast<double>(n)) / rate, o_.blocked.patience * per_step);
+      return births_left + kStepsAfterPass1 * kAfterStepCost * step_when_full;
     }
     const double after = static_cast<double>(step - pass1_end_step_);
     return after < kStepsAfterPass1 ? (kStepsAfterPass1 - after) * per_step : -1;
@@ -598,6 +602,9 @@ class FillRun {
   /// Steps of settle, relief and voids together in fills of spot at 4,000
   /// and 16,000 (11,000-17,000); it changes when those passes do.
   static constexpr double kStepsAfterPass1 = 15000;
+  /// Their steps cost about twice a step of pass 1 (each relief round of
+  /// 300 steps reads every particle back and searches the overlaps).
+  static constexpr double kAfterStepCost = 2;
 
   Mesh mesh_;
   FillOptions o_;
