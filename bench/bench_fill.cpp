@@ -5,11 +5,27 @@
 //
 //   bench_fill [--mesh spot|bunny|torus|all] [--seeds N] [--stop-compare]
 //              [--device SPEC] [--json FILE]
+//   bench_fill --scale [--sizes 4000,16000,64000,100000] [--mesh spot|bunny|torus]
+//              [--sites N] [--birth-every K] [--device SPEC] [--json FILE]
 //
 // --stop-compare fills spot once per stopping signal (blocked, ke,
 // collisions) and reports what each gives.
+//
+// --scale fills one mesh (spot by default) at each count of --sizes (-n),
+// each in a child process of its own so that its peak memory (RSS) is its
+// own, and prints time, steps and seconds per pass, packing, largest
+// overlap, containment and peak memory per count, then the exponent of
+// time against the count (least squares over log-log, and between
+// neighbouring sizes). --sites / --birth-every run another birth schedule
+// (e.g. --sites 2 --birth-every 3, the schedule before births in waves).
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <sstream>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -92,12 +108,159 @@ nlohmann::ordered_json run_case(const Case& c, const Mesh& mesh, uint64_t seed, 
           {"device", r.device}};
 }
 
+struct ScaleRun {
+  size_t asked = 0;
+  nlohmann::ordered_json figures;
+};
+
+/// One fill of `mesh` at about `count` particles, in a child process (the
+/// parent never opens OpenCL, so the fork is safe): the child sends its
+/// figures back as one line of JSON, peak RSS included.
+nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int birth_every,
+                                  const std::string& device) {
+  int fds[2];
+  if (pipe(fds) != 0) throw Error("bench_fill: cannot make a pipe");
+  std::fflush(stdout);
+  const pid_t pid = fork();
+  if (pid < 0) throw Error("bench_fill: cannot fork");
+  if (pid == 0) {
+    close(fds[0]);
+    nlohmann::ordered_json j;
+    try {
+      FillOptions o;
+      o.count = count;
+      o.sites = sites;
+      o.birth_every = birth_every;
+      o.device = device;
+      o.colour = ColourOptions{ColourMode::None, {}};
+      const auto t0 = std::chrono::steady_clock::now();
+      const FillResult r = fill(mesh, o);
+      const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      rusage ru{};
+      getrusage(RUSAGE_SELF, &ru);
+      nlohmann::ordered_json passes = nlohmann::ordered_json::array();
+      for (const PassStats& p : r.passes)
+        passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+      const PackingMetrics& m = r.metrics;
+      j = {{"asked", count},
+           {"count", m.count},
+           {"radius", r.radius},
+           {"sites", r.sites.size()},
+           {"seconds", wall},
+           {"field_seconds", r.field_seconds},
+           {"steps", r.steps},
+           {"passes", passes},
+           {"packing_fraction", m.packing_fraction},
+           {"max_overlap", m.max_overlap},
+           {"contained_share", m.contained_share},
+           {"max_penetration", m.max_penetration},
+           {"max_parts", r.max_parts},
+           {"relief_removed", r.relief_removed},
+           {"voids_filled", r.voids_filled},
+           {"stop_signal", r.stop_signal},
+           {"peak_rss_mib", ru.ru_maxrss / 1024.0},
+           {"device", r.device}};
+    } catch (const std::exception& e) {
+      j = {{"asked", count}, {"error", e.what()}};
+    }
+    const std::string line = j.dump() + "\n";
+    ssize_t off = 0;
+    while (off < static_cast<ssize_t>(line.size())) {
+      const ssize_t w = write(fds[1], line.data() + off, line.size() - off);
+      if (w <= 0) break;
+      off += w;
+    }
+    close(fds[1]);
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buf[4096];
+  for (ssize_t got; (got = read(fds[0], buf, sizeof buf)) > 0;) text.append(buf, static_cast<size_t>(got));
+  close(fds[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (text.empty()) throw Error("bench_fill: the fill of " + std::to_string(count) + " particles died");
+  return nlohmann::ordered_json::parse(text);
+}
+
+std::vector<size_t> parse_sizes(const std::string& text) {
+  std::vector<size_t> sizes;
+  std::stringstream in(text);
+  for (std::string item; std::getline(in, item, ',');) {
+    const long long v = std::atoll(item.c_str());
+    if (v <= 0) throw Error("--sizes '" + text + "': give counts separated by commas, e.g. 4000,16000");
+    sizes.push_back(static_cast<size_t>(v));
+  }
+  if (sizes.empty()) throw Error("--sizes: give at least one count");
+  return sizes;
+}
+
+double pass_steps(const nlohmann::ordered_json& j, const std::string& name) {
+  for (const auto& p : j["passes"])
+    if (p["pass"] == name) return p["steps"].get<double>();
+  return 0;
+}
+
+double pass_seconds(const nlohmann::ordered_json& j, const std::string& name) {
+  for (const auto& p : j["passes"])
+    if (p["pass"] == name) return p["seconds"].get<double>();
+  return 0;
+}
+
+nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vector<size_t>& sizes, int sites,
+                                 int birth_every, const std::string& device) {
+  std::printf("scale: %s, sites %s, birth every %s\n", c.name.c_str(),
+              sites ? std::to_string(sites).c_str() : "auto (waves)",
+              birth_every ? std::to_string(birth_every).c_str() : "auto");
+  std::printf("| -n | spheres | time s | field s | pass 1 steps (s) | settle steps | relief steps (s) | voids steps (s) "
+              "| packing | largest overlap | inside | peak RSS |\n");
+  std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  std::fflush(stdout);
+  nlohmann::ordered_json runs = nlohmann::ordered_json::array();
+  std::vector<double> xs, ys;
+  for (size_t n : sizes) {
+    const nlohmann::ordered_json j = scale_fill(mesh, n, sites, birth_every, device);
+    runs.push_back(j);
+    if (j.contains("error")) {
+      std::printf("| %zu | failed: %s |\n", n, j["error"].get<std::string>().c_str());
+      continue;
+    }
+    std::printf("| %zu | %zu | %.1f | %.1f | %.0f (%.1f) | %.0f | %.0f (%.1f) | %.0f (%.1f) | %.4f | %.2f%% r | %.2f%% | %.0f MiB |\n",
+                n, j["count"].get<size_t>(), j["seconds"].get<double>(), j["field_seconds"].get<double>(),
+                pass_steps(j, "pass 1"), pass_seconds(j, "pass 1"), pass_steps(j, "settle"), pass_steps(j, "relief"),
+                pass_seconds(j, "relief"), pass_steps(j, "voids"), pass_seconds(j, "voids"),
+                j["packing_fraction"].get<double>(), 100 * j["max_overlap"].get<double>(),
+                100 * j["contained_share"].get<double>(), j["peak_rss_mib"].get<double>());
+    std::fflush(stdout);
+    xs.push_back(std::log(static_cast<double>(n)));
+    ys.push_back(std::log(j["seconds"].get<double>()));
+  }
+  nlohmann::ordered_json out{{"mesh", c.name}, {"sites", sites}, {"birth_every", birth_every}, {"runs", runs}};
+  if (xs.size() >= 2) {
+    double mx = 0, my = 0;
+    for (size_t i = 0; i < xs.size(); ++i) mx += xs[i] / xs.size(), my += ys[i] / xs.size();
+    double sxy = 0, sxx = 0;
+    for (size_t i = 0; i < xs.size(); ++i) sxy += (xs[i] - mx) * (ys[i] - my), sxx += (xs[i] - mx) * (xs[i] - mx);
+    const double exponent = sxx > 0 ? sxy / sxx : 0;
+    std::printf("time ~ N^%.2f (least squares over %zu sizes)", exponent, xs.size());
+    for (size_t i = 1; i < xs.size(); ++i)
+      std::printf("; %.0f -> %.0f: x%.2f time for x%.2f particles (N^%.2f)", std::exp(xs[i - 1]), std::exp(xs[i]),
+                  std::exp(ys[i] - ys[i - 1]), std::exp(xs[i] - xs[i - 1]), (ys[i] - ys[i - 1]) / (xs[i] - xs[i - 1]));
+    std::printf("\n");
+    out["exponent"] = exponent;
+  }
+  return out;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string which = "all", json_path, device;
   int seeds = 1;
-  bool stop_compare = false;
+  bool stop_compare = false, scale = false;
+  std::vector<size_t> sizes{4000, 16000, 64000, 100000};
+  int sites = 0, birth_every = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -109,12 +272,19 @@ int main(int argc, char** argv) {
     else if (a == "--json") json_path = value();
     else if (a == "--device") device = value();
     else if (a == "--stop-compare") stop_compare = true;
+    else if (a == "--scale") scale = true;
+    else if (a == "--sizes") sizes = parse_sizes(value());
+    else if (a == "--sites") sites = std::stoi(value());
+    else if (a == "--birth-every") birth_every = std::stoi(value());
     else {
       std::fprintf(stderr, "usage: bench_fill [--mesh spot|bunny|torus|all] [--seeds N] [--stop-compare] "
-                           "[--device SPEC] [--json FILE]\n");
+                           "[--device SPEC] [--json FILE]\n"
+                           "       bench_fill --scale [--sizes 4000,16000,64000,100000] [--mesh spot|bunny|torus] "
+                           "[--sites N] [--birth-every K] [--device SPEC] [--json FILE]\n");
       return 2;
     }
   }
+  if (scale && which == "all") which = "spot";
   const std::filesystem::path shared = PFILL_SHARED_MESHES;
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
   try {
@@ -129,6 +299,10 @@ int main(int argc, char** argv) {
         std::printf("%-6s skipped: %s not found\n", c.name.c_str(), (shared / c.file).c_str());
         continue;
       }
+      if (scale) {
+        runs.push_back(run_scale(c, mesh, sizes, sites, birth_every, device));
+        continue;
+      }
       for (int s = 1; s <= seeds; ++s) runs.push_back(run_case(c, mesh, s, StopCriterion::Blocked, device));
       if (stop_compare && c.name == "spot")
         for (StopCriterion stop : {StopCriterion::KineticEnergy, StopCriterion::Collisions})
@@ -139,7 +313,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   if (!json_path.empty()) {
-    std::ofstream(json_path) << nlohmann::ordered_json{{"bench", "fill"}, {"runs", runs}}.dump(2) << "\n";
+    std::ofstream(json_path) << nlohmann::ordered_json{{"bench", scale ? "fill_scale" : "fill"}, {"runs", runs}}.dump(2)
+                             << "\n";
     std::printf("wrote %s\n", json_path.c_str());
   }
   return 0;

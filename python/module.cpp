@@ -28,7 +28,7 @@ namespace pfill::python {
 namespace {
 
 struct PyFillResult {
-  py::object positions, radii, colours, velocities, metrics, report;
+  py::object positions, radii, colours, velocities, ids, metrics, report;
   double radius = 0;
   size_t size = 0;
 };
@@ -36,7 +36,8 @@ struct PyFillResult {
 PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count, std::optional<double> radius,
                       double rest_distance, double epsilon, double cutoff, const py::object& exponents,
                       double restitution, double wall_restitution, double damping, double time_step,
-                      long long seed, int sites, double site_depth, int birth_every, double birth_clearance,
+                      long long seed, int sites, double site_spacing, double site_min_depth, double site_depth,
+                      int birth_every, double birth_clearance, double stop_share,
                       const py::object& birth_speed, double max_step, const py::object& birth,
                       const std::string& stop, int patience, int void_rounds, double void_clearance,
                       double max_overlap, const py::object& colour, double skin, int sync_every,
@@ -59,7 +60,10 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
   o.time_step = time_step;
   o.seed = static_cast<uint64_t>(seed);
   o.sites = sites;
+  o.site_spacing = site_spacing;
+  o.site_min_depth = site_min_depth;
   o.site_depth_share = site_depth;
+  o.birth_stop_share = stop_share;
   o.birth_every = birth_every;
   o.birth_clearance = birth_clearance;
   std::tie(o.birth_speed_min, o.birth_speed_max) = number_pair(birth_speed, "birth_speed");
@@ -107,6 +111,8 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
   out.positions = vec3_array(ps.positions);
   out.radii = py::array_t<double>(static_cast<py::ssize_t>(ps.size()), ps.radii.data());
   out.velocities = ps.has_velocities() ? py::object(vec3_array(ps.velocities)) : py::none();
+  out.ids = ps.has_ids() ? py::object(py::array_t<uint64_t>(static_cast<py::ssize_t>(ps.size()), ps.ids.data()))
+                         : py::none();
   if (ps.has_colours()) {
     py::array_t<uint8_t> c({static_cast<py::ssize_t>(ps.size()), py::ssize_t(3)});
     auto v = c.mutable_unchecked<2>();
@@ -201,6 +207,7 @@ PYBIND11_MODULE(_pfill, m) {
       .def_readonly("radii", &PyFillResult::radii, "(N,) float64 radii")
       .def_readonly("colours", &PyFillResult::colours, "(N, 3) uint8 sRGB colours, or None")
       .def_readonly("velocities", &PyFillResult::velocities, "(N, 3) float64 velocities, or None")
+      .def_readonly("ids", &PyFillResult::ids, "(N,) uint64 particle ids (birth order, as in the files), or None")
       .def_readonly("metrics", &PyFillResult::metrics, "dict: the metrics of `pfill fill --report`")
       .def_readonly("report", &PyFillResult::report, "dict: the whole `pfill fill --report` JSON")
       .def_readonly("radius", &PyFillResult::radius, "the particle radius")
@@ -220,8 +227,10 @@ PYBIND11_MODULE(_pfill, m) {
         py::arg("cutoff") = d.cutoff, py::arg("exponents") = py::make_tuple(d.exponent_a, d.exponent_b),
         py::arg("restitution") = d.restitution, py::arg("wall_restitution") = d.wall_restitution,
         py::arg("damping") = d.damping, py::arg("time_step") = d.time_step, py::arg("seed") = d.seed,
-        py::arg("sites") = d.sites, py::arg("site_depth") = d.site_depth_share,
+        py::arg("sites") = d.sites, py::arg("site_spacing") = d.site_spacing,
+        py::arg("site_min_depth") = d.site_min_depth, py::arg("site_depth") = d.site_depth_share,
         py::arg("birth_every") = d.birth_every, py::arg("birth_clearance") = d.birth_clearance,
+        py::arg("stop_share") = d.birth_stop_share,
         py::arg("birth_speed") = py::make_tuple(d.birth_speed_min, d.birth_speed_max),
         py::arg("max_step") = d.max_step_fraction, py::arg("birth") = py::none(), py::arg("stop") = "blocked",
         py::arg("patience") = d.blocked.patience, py::arg("void_rounds") = d.void_rounds,
@@ -238,7 +247,7 @@ PYBIND11_MODULE(_pfill, m) {
         "exception it raises stops the fill.\n"
         "cancelled: called now and then; returning True stops the fill with pfill.Cancelled. "
         "Ctrl-C stops it with KeyboardInterrupt.\n"
-        "Returns a FillResult (positions, radii, colours, velocities, metrics, report, radius).");
+        "Returns a FillResult (positions, radii, colours, velocities, ids, metrics, report, radius).");
   m.def("check", &check, py::arg("positions"), py::arg("radii"), py::arg("mesh"), py::kw_only(),
         py::arg("tolerance") = MetricsOptions{}.containment_tolerance,
         "Measures spheres against a mesh, exactly (as `pfill check --json`): returns the metrics dict "

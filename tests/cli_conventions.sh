@@ -16,7 +16,7 @@ particles_of() { grep -m1 '"particles":' "$1" | tr -dc '0-9'; }
 json_alone() { [ "$(head -c 1 "$1")" = "{" ] && [ "$(tail -n 1 "$1")" = "}" ]; }
 
 # fill --json: stdout is one JSON document (progress and warnings on stderr).
-"$pfill" fill sphere -n 150 -o s.ply --json > fill.json 2> fill.err || fail "fill --json"
+"$pfill" fill sphere -n 150 --max-overlap 0.05 -o s.ply --json > fill.json 2> fill.err || fail "fill --json"
 json_alone fill.json || fail "fill --json: stdout is not one JSON document: $(head -c 300 fill.json)"
 [ "$(particles_of fill.json)" -gt 100 ] || fail "fill --json: no particle count: $(head -c 300 fill.json)"
 grep -q "pfill: filling" fill.err || fail "fill --json: progress should stay on stderr"

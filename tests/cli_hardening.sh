@@ -49,7 +49,7 @@ refused "not both" "$pfill" fill same.obj --builtin cube
 refused "patience" "$pfill" fill --patience 0
 refused "void-rounds" "$pfill" fill --void-rounds -1
 refused "site-depth" "$pfill" fill --site-depth 2
-refused "birth-clearance" "$pfill" fill --birth-clearance 0
+refused "birth-clearance" "$pfill" fill --birth-clearance 0.1
 ls .*.tmp* >/dev/null 2>&1 && fail "temporary files left: $(ls -a)"
 
 # SIGTERM (or Ctrl-C, SIGINT, which a script's background job ignores)

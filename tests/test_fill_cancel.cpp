@@ -1,6 +1,6 @@
 // FillOptions::cancelled, the hook Ctrl-C reaches a fill through (the
 // command line, the Python module): polled at each sync of the passes and
-// each round of the relief, it stops the fill with pfill::Cancelled.
+// each read of the finish's relaxations, it stops the fill with pfill::Cancelled.
 #include <doctest/doctest.h>
 
 #include <string>
@@ -24,15 +24,15 @@ TEST_CASE("a fill stops with pfill::Cancelled at the poll that asks it to") {
   CHECK(phase == "pass 1");
 }
 
-TEST_CASE("the relief rounds poll the cancel hook too") {
+TEST_CASE("the finish's relaxations poll the cancel hook too") {
   FillOptions o;
   o.count = 150;
   std::string phase;
-  int relief_polls = 0;
+  int finish_polls = 0;
   o.progress = [&](const FillProgress& p) { phase = p.phase; };
-  o.cancelled = [&] { return phase == "relief" && ++relief_polls == 2; };
+  o.cancelled = [&] { return phase == "finish" && ++finish_polls == 2; };
   CHECK_THROWS_AS(fill(make_builtin("cube"), o), Cancelled);
-  CHECK(relief_polls == 2);
+  CHECK(finish_polls == 2);
 }
 
 TEST_CASE("a hook that never cancels changes nothing") {

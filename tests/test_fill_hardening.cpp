@@ -118,7 +118,7 @@ TEST_CASE("options that would make a fill endless or empty are refused before it
     }
   };
   FillOptions o;
-  o.birth_clearance = 0;
+  o.birth_clearance = 0.1;
   refused(o, "--birth-clearance");
   o = {};
   o.blocked.patience = 0;

@@ -3,6 +3,8 @@
 /// signed distance field, and the test of whether a site has room for a
 /// newborn given the latest known particle positions.
 #pragma once
+#include <array>
+#include <cstdint>
 #include <vector>
 
 #include "pfill/grid.hpp"
@@ -28,5 +30,40 @@ std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, doub
 
 /// True when no centre in `centres` lies closer than `clearance` to `site`.
 bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double clearance);
+
+/// Sites spread over the whole interior, for births in waves: among field
+/// points at least `min_depth` deep (taken on a sub-lattice of the field,
+/// about `spacing` / 3 apart), the deepest, then again and again the
+/// deepest that lies at least `spacing` from every site chosen so far. The
+/// sites cover every part of the object at least 2 `min_depth` thick, one
+/// per ~`spacing`^3 of volume, so their number grows with the volume (and a
+/// fill's count) while each feeds a neighbourhood of the same size.
+/// Empty when no point is that deep.
+std::vector<BirthSite> spread_birth_sites(const ScalarGrid& sdf, double spacing, double min_depth);
+
+/// The birth-room test for many sites at once: the centres of a snapshot
+/// binned into cells of the clearance (built in O(n)); a query visits the
+/// 27 cells around a site, so a wave over every site costs O(n + sites),
+/// not O(n * sites).
+class RoomGrid {
+ public:
+  RoomGrid() = default;
+  RoomGrid(const std::vector<Vec3>& centres, double clearance);
+  /// True when no centre lies closer than the clearance to `site`.
+  bool has_room(const Vec3& site) const;
+
+ private:
+  bool cell_of(const Vec3& p, std::array<int, 3>& c) const;
+  size_t cell_index(const std::array<int, 3>& c) const {
+    return static_cast<size_t>(c[0]) +
+           static_cast<size_t>(dims_[0]) * (static_cast<size_t>(c[1]) + static_cast<size_t>(dims_[1]) * c[2]);
+  }
+  double clearance_ = 0;
+  double cell_ = 1;
+  Vec3 origin_;
+  std::array<int, 3> dims_{0, 0, 0};
+  std::vector<uint32_t> start_;  ///< cell c's centres: sorted_[start_[c] .. start_[c + 1])
+  std::vector<Vec3> sorted_;     ///< the centres in cell order
+};
 
 }  // namespace pfill

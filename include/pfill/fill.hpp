@@ -48,14 +48,26 @@ struct FillOptions {
   double time_step = 0.01;      ///< in units of the potential's time scale tau = sigma sqrt(m / eps)
   double max_step_fraction = 0.1;   ///< no particle moves more than this many sigma a step (the top speed)
 
-  // Births.
-  int sites = 2;                ///< birth sites: the deepest point, then far deep points
-  double site_depth_share = 0.75;  ///< sites after the first are at least this share of the deepest depth
-  int birth_every = 3;          ///< steps between birth attempts at each site
+  // Births. Two schedules:
+  // - waves (sites = 0, the default): sites spread over the whole interior,
+  //   one per ~site_spacing^3 of volume, so their number grows with the
+  //   count and pass 1 takes about as many steps at any size; every
+  //   `birth_every` steps each site with room gets a newborn (one wave).
+  // - the report's (sites >= 1): the deepest point, then far deep points
+  //   (`--sites 1 --birth-every 1` is the report's single birth point).
+  int sites = 0;                ///< 0: waves over spread sites; N >= 1: N deepest, far-apart sites
+  double site_depth_share = 0.75;  ///< sites >= 1: sites after the first are at least this share of the deepest depth
+  int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 48 (waves)
+  double site_spacing = 5;      ///< waves: sites at least this many rest distances (2r) apart
+  double site_min_depth = 2;    ///< waves: sites at least this many radii inside
   std::optional<Vec3> birth_point;  ///< overrides the first site
   double birth_speed_min = 0.3; ///< newborn speed range, as fractions of the top speed
   double birth_speed_max = 0.6;
-  double birth_clearance = 0.5; ///< a site has room when no centre is within this many rest distances (2r by default) (measured on spot and a torus: 0.5 packs densest)
+  /// A site has room when no centre is within this many rest distances (2r
+  /// by default); 0: automatic, 0.5 for the report's schedule (measured on
+  /// spot and a torus: densest) and 0.55 for waves (0.5 over many sites
+  /// overfills, and relief then deletes more than it gained).
+  double birth_clearance = 0;
   uint64_t seed = 1;
 
   // Pass 1 stopping.
@@ -63,6 +75,7 @@ struct FillOptions {
   KineticEnergySettings ke;
   CollisionCountSettings collisions;
   BlockedSitesSettings blocked;
+  double birth_stop_share = 0.003;  ///< waves: pass 1 also ends when the births of the last `blocked.patience` steps are at most this share of the particles
   uint64_t max_steps = 0;       ///< step budget of pass 1; 0: 100 per expected particle + 20,000
 
   // Pass 2 and settling.

@@ -18,7 +18,9 @@
 /// The tests only watch; the fill acts on what they return.
 #pragma once
 #include <cstdint>
+#include <algorithm>
 #include <string>
+#include <vector>
 
 #include "pfill/engine/step_record.hpp"
 
@@ -86,19 +88,29 @@ class CollisionCountTest {
 
 struct BlockedSitesSettings {
   int patience = 1500;  ///< steps without a successful birth at any site
+  /// Births in waves over many sites: full also when the births of the
+  /// last `patience` steps number at most this share of the particles (a
+  /// few sites keep finding room now and then long after the object is
+  /// full). 0: only a window without any birth.
+  double share = 0;
 };
 
 class BlockedSitesTest {
  public:
-  explicit BlockedSitesTest(BlockedSitesSettings s = {}) : s_(s) {}
+  explicit BlockedSitesTest(BlockedSitesSettings s = {}) : s_(s), window_(static_cast<size_t>(std::max(1, s.patience)), 0) {}
   /// After each step: whether any site gave birth in it.
-  StopVerdict observe(bool any_birth);
+  StopVerdict observe(bool any_birth) { return observe(any_birth ? 1 : 0, 0); }
+  /// After each step: how many were born in it, and the particle count.
+  StopVerdict observe(int births, size_t count);
   int steps_without_birth() const { return idle_; }
   const BlockedSitesSettings& settings() const { return s_; }
 
  private:
   BlockedSitesSettings s_;
   int idle_ = 0;
+  std::vector<int> window_;  ///< births of the last `patience` steps (a ring)
+  size_t steps_ = 0;
+  long long window_births_ = 0;
 };
 
 }  // namespace pfill

@@ -45,7 +45,8 @@ def test_fill_arrays_have_the_documented_shapes_and_types(sphere_fill):
     assert r.radii.shape == (n,) and r.radii.dtype == np.float64
     assert np.allclose(r.radii, r.radius)
     assert r.colours is None  # the built-in sphere has no colours
-    assert r.velocities is None or r.velocities.shape == (n, 3)
+    assert r.velocities.shape == (n, 3)
+    assert r.ids.shape == (n,) and len(set(r.ids.tolist())) == n  # distinct ids
     assert r.metrics["particles"] == n
     assert np.all(np.linalg.norm(r.positions, axis=1) + r.radii <= 1.0 + 0.011 * r.radius)
 

@@ -242,14 +242,22 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
       ->check(whole_number(0, UINT64_MAX))
       ->capture_default_str();
-  cmd->add_option("--sites", o.sites, "Birth sites: the deepest point, then far deep points")->capture_default_str();
+  cmd->add_option("--sites", o.sites,
+                  "Birth sites: 0 = births in waves over sites spread through the inside (one per --site-spacing); "
+                  "N = the deepest point, then far deep points (the report's schedule)")
+      ->capture_default_str();
+  cmd->add_option("--site-spacing", o.site_spacing, "Waves (--sites 0): sites at least this many rest distances apart")
+      ->capture_default_str();
+  cmd->add_option("--site-min-depth", o.site_min_depth, "Waves (--sites 0): sites at least this many radii inside")
+      ->capture_default_str();
   cmd->add_option("--site-depth", o.site_depth_share,
                   "Sites after the first lie at least this share of the deepest point's depth inside")
       ->capture_default_str();
-  cmd->add_option("--birth-every", o.birth_every, "Steps between birth attempts at each site")
+  cmd->add_option("--birth-every", o.birth_every,
+                  "Steps between birth attempts at each site (0 = automatic: 48 for waves, 3 with --sites N)")
       ->capture_default_str();
   cmd->add_option("--birth-clearance", o.birth_clearance,
-                  "A site has room when no centre is within this many rest distances")
+                  "A site has room when no centre is within this many rest distances (0 = automatic: 0.55 for waves, 0.5 with --sites N)")
       ->capture_default_str();
   cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed (default 0.3,0.6)");
   cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
@@ -258,6 +266,10 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--stop", a->stop, "What ends pass 1: blocked (sites full), ke (kinetic energy), collisions")
       ->capture_default_str();
   cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
+      ->capture_default_str();
+  cmd->add_option("--stop-share", o.birth_stop_share,
+                  "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
+                  "this share of the particles")
       ->capture_default_str();
   cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
       ->capture_default_str();

@@ -2,7 +2,10 @@
 #include "pfill/birth_sites.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
+
+#include "fill/centre_grid.hpp"
 
 namespace pfill {
 
@@ -54,6 +57,104 @@ bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double cl
     const Vec3 d = p - site;
     if (dot(d, d) < c2) return false;
   }
+  return true;
+}
+
+}  // namespace pfill
+
+namespace pfill {
+
+std::vector<BirthSite> spread_birth_sites(const ScalarGrid& sdf, double spacing, double min_depth) {
+  struct Candidate {
+    float depth;
+    size_t index;
+  };
+  const int nx = sdf.dims[0], ny = sdf.dims[1], nz = sdf.dims[2];
+  const int stride = std::max(1, static_cast<int>(spacing / 3 / sdf.spacing));
+  std::vector<Candidate> candidates;
+  for (int k = 0; k < nz; k += stride)
+    for (int j = 0; j < ny; j += stride)
+      for (int i = 0; i < nx; i += stride) {
+        const float depth = -sdf.at(i, j, k);
+        if (depth >= min_depth) candidates.push_back({depth, sdf.index(i, j, k)});
+      }
+  // Deepest first; ties by grid index, so the choice does not depend on the sort.
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+    return a.depth > b.depth || (a.depth == b.depth && a.index < b.index);
+  });
+  std::vector<BirthSite> sites;
+  CentreGrid chosen(spacing);
+  const double s2 = spacing * spacing;
+  for (const Candidate& c : candidates) {
+    const Vec3 p = sdf.point(static_cast<int>(c.index % nx), static_cast<int>((c.index / nx) % ny),
+                             static_cast<int>(c.index / (static_cast<size_t>(nx) * ny)));
+    bool near = false;
+    chosen.for_near(p, [&](uint32_t id) {
+      const Vec3 d = sites[id].position - p;
+      near = near || dot(d, d) < s2;
+    });
+    if (near) continue;
+    chosen.insert(p, static_cast<uint32_t>(sites.size()));
+    sites.push_back({p, c.depth});
+  }
+  return sites;
+}
+
+RoomGrid::RoomGrid(const std::vector<Vec3>& centres, double clearance) : clearance_(clearance) {
+  if (centres.empty()) return;
+  Vec3 lo = centres[0], hi = centres[0];
+  for (const Vec3& p : centres) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  }
+  origin_ = lo - Vec3(1, 1, 1) * clearance;
+  const Vec3 size = hi - lo + Vec3(2, 2, 2) * clearance;
+  // Cells of at least the clearance, at most ~2 per centre (a sparse snapshot in a big box).
+  double cell = clearance;
+  const double cap = 2.0 * static_cast<double>(centres.size()) + 64;
+  if (size.x / cell * (size.y / cell) * (size.z / cell) > cap) cell = std::cbrt(size.x * size.y * size.z / cap);
+  cell_ = cell;
+  dims_ = {static_cast<int>(size.x / cell) + 1, static_cast<int>(size.y / cell) + 1,
+           static_cast<int>(size.z / cell) + 1};
+  const size_t cells = static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2];
+  start_.assign(cells + 1, 0);
+  std::vector<uint32_t> cell_of_centre(centres.size());
+  for (size_t i = 0; i < centres.size(); ++i) {
+    std::array<int, 3> c{};
+    cell_of(centres[i], c);
+    cell_of_centre[i] = static_cast<uint32_t>(cell_index(c));
+    ++start_[cell_of_centre[i] + 1];
+  }
+  for (size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
+  sorted_.resize(centres.size());
+  std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+  for (size_t i = 0; i < centres.size(); ++i) sorted_[fill[cell_of_centre[i]]++] = centres[i];
+}
+
+bool RoomGrid::cell_of(const Vec3& p, std::array<int, 3>& c) const {
+  const Vec3 q = (p - origin_) / cell_;
+  c = {static_cast<int>(std::floor(q.x)), static_cast<int>(std::floor(q.y)), static_cast<int>(std::floor(q.z))};
+  for (int a = 0; a < 3; ++a)
+    if (c[a] < 0 || c[a] >= dims_[a]) return false;
+  return true;
+}
+
+bool RoomGrid::has_room(const Vec3& site) const {
+  const double c2 = clearance_ * clearance_;
+  if (start_.empty()) return true;
+  const Vec3 q = (site - origin_) / cell_;
+  const int reach = static_cast<int>(std::ceil(clearance_ / cell_));
+  const int ci = static_cast<int>(std::floor(q.x)), cj = static_cast<int>(std::floor(q.y)),
+            ck = static_cast<int>(std::floor(q.z));
+  for (int k = std::max(0, ck - reach); k <= std::min(dims_[2] - 1, ck + reach); ++k)
+    for (int j = std::max(0, cj - reach); j <= std::min(dims_[1] - 1, cj + reach); ++j)
+      for (int i = std::max(0, ci - reach); i <= std::min(dims_[0] - 1, ci + reach); ++i) {
+        const size_t c = cell_index({i, j, k});
+        for (uint32_t m = start_[c]; m < start_[c + 1]; ++m) {
+          const Vec3 d = sorted_[m] - site;
+          if (dot(d, d) < c2) return false;
+        }
+      }
   return true;
 }
 

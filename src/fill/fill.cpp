@@ -35,6 +35,10 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kExpectedPacking = 0.62;  // what physics fills reach (DESIGN.md)
 constexpr size_t kMaxParticles = 100'000'000;
+// Steps between waves: slower waves compress more gently and pack denser
+// (spot, -n 16,000: every 24 steps 0.642, every 48 0.646), while pass 1
+// stays about 20,000 steps at any count.
+constexpr int kWaveEvery = 48;
 
 using Clock = std::chrono::steady_clock;
 
@@ -128,7 +132,12 @@ class FillRun {
     result_.field_bytes = stats.bytes;
     result_.field_spacing = so.spacing;
 
-    sites_ = choose_birth_sites(field_, std::max(1, o_.sites), radius_, o_.site_depth_share);
+    waves_ = o_.sites == 0;
+    birth_every_ = o_.birth_every > 0 ? o_.birth_every : (waves_ ? kWaveEvery : 3);
+    birth_clearance_ = o_.birth_clearance > 0 ? o_.birth_clearance : (waves_ ? 0.55 : 0.5);
+    if (waves_) sites_ = spread_birth_sites(field_, o_.site_spacing * rest_distance(), o_.site_min_depth * radius_);
+    if (sites_.empty())  // the report's sites; for waves, the one deepest point of a thin object
+      sites_ = choose_birth_sites(field_, std::max(1, o_.sites), radius_, o_.site_depth_share);
     if (sites_.empty()) {
       double deepest = 0;
       for (float v : field_.values) deepest = std::max(deepest, -static_cast<double>(v));
@@ -182,8 +191,11 @@ class FillRun {
     need(o_.count <= kMaxParticles, "a count of " + std::to_string(o_.count) + " is more than pfill handles (" +
                                         fmt(kMaxParticles) + "); ask for fewer particles");
     need(o_.rest_distance >= 1, "--rest-distance must be >= 1 (a multiple of the contact distance 2r)");
-    need(o_.sites >= 1 && o_.sites <= 64, "--sites must be 1..64");
-    need(o_.birth_every >= 1, "--birth-every must be >= 1");
+    need(o_.sites >= 0 && o_.sites <= 64, "--sites must be 0..64 (0: births in waves over sites spread inside)");
+    need(o_.birth_every >= 0, "--birth-every must be >= 1 (or 0: automatic)");
+    need(o_.birth_stop_share >= 0 && o_.birth_stop_share < 1, "the birth stop share must be in [0, 1)");
+    need(o_.site_spacing >= 0.5, "--site-spacing must be >= 0.5 rest distances");
+    need(o_.site_min_depth >= 1, "--site-min-depth must be >= 1 radius");
     need(o_.birth_speed_min >= 0 && o_.birth_speed_max >= o_.birth_speed_min && o_.birth_speed_max <= 1,
          "birth speeds must satisfy 0 <= min <= max <= 1 (fractions of the top speed)");
     need(o_.max_overlap >= 0 && o_.max_overlap < 1, "--max-overlap must be in [0, 1) (a fraction of r)");
@@ -194,8 +206,8 @@ class FillRun {
     // Bounds that keep every pass finite: a site that always has room, a
     // patience of nothing, a vanishing step or speed would make a fill
     // endless or empty.
-    need(o_.birth_clearance >= 0.25 && o_.birth_clearance <= 4,
-         "--birth-clearance must be in [0.25, 4] rest distances (default 0.5); below that a site never "
+    need(o_.birth_clearance == 0 || (o_.birth_clearance >= 0.25 && o_.birth_clearance <= 4),
+         "--birth-clearance must be 0 (automatic) or in [0.25, 4] rest distances; below 0.25 a site never "
          "fills up and births go on without end");
     need(o_.blocked.patience >= std::max(100, 10 * o_.birth_every) && o_.blocked.patience <= 10'000'000,
          "--patience must be at least 100 steps and 10 birth intervals (--birth-every), at most 10,000,000 "
@@ -225,15 +237,20 @@ class FillRun {
     const uint64_t budget = o_.max_steps ? o_.max_steps : 100 * result_.expected + 20000;
     KineticEnergyTest ke(o_.ke);
     CollisionCountTest collisions(o_.collisions);
-    BlockedSitesTest blocked(o_.blocked);
+    // Over many sites a few keep finding room now and then long after the
+    // object is full: waves end when births fall to a small share.
+    BlockedSitesSettings bs = o_.blocked;
+    bs.share = waves_ ? o_.birth_stop_share : 0;
+    BlockedSitesTest blocked(bs);
     phase_ = "pass 1";
     bool overfull = false;
     while (!overfull) {
       const bool hold = ke.waiting() || collisions.waiting();
-      const std::vector<bool> born = run_batch(!hold);
+      const std::vector<int> born = run_batch(!hold);
       for (size_t k = 0; k < history_.size() && !overfull; ++k) {
         const StepRecord& r = history_[k];
-        const bool b = k < born.size() && born[k];
+        const int births = k < born.size() ? born[k] : 0;
+        const bool b = births > 0;
         StopVerdict v = StopVerdict::Continue;
         if (o_.stop == StopCriterion::KineticEnergy) v = ke.observe(r, b);
         if (o_.stop == StopCriterion::Collisions) v = collisions.observe(r, b);
@@ -251,10 +268,14 @@ class FillRun {
         }
         // The blocked-sites test always runs: it ends the pass when the
         // report's tests never fire (a prototype found they rarely do).
-        if (!overfull && blocked.observe(b) == StopVerdict::Overfull) {
+        if (!overfull && blocked.observe(births, engine_->size()) == StopVerdict::Overfull) {
           overfull = true;
           result_.stop_signal = "blocked";
-          result_.stop_reason = "no birth site had room for " + std::to_string(o_.blocked.patience) + " steps" +
+          result_.stop_reason =
+              (blocked.steps_without_birth() >= bs.patience
+                   ? "no birth site had room for " + std::to_string(bs.patience) + " steps"
+                   : "the " + std::to_string(sites_.size()) + " sites had room for at most " + fmt(bs.share * 100) +
+                         "% of the particles in the last " + std::to_string(bs.patience) + " steps") +
                                 (o_.stop != StopCriterion::Blocked
                                      ? std::string(" (the ") + to_string(o_.stop) + " test did not fire first)"
                                      : "");
@@ -269,6 +290,8 @@ class FillRun {
       }
     }
     result_.passes.push_back({"pass 1", engine_->steps_done() - first, seconds_since(t)});
+    pass1_end_step_ = engine_->steps_done();
+    rate_samples_.clear();  // later steps cost more: time them afresh
   }
 
   // ---- pass 2: MaxParts = count - 1; top up to it ----
@@ -280,8 +303,8 @@ class FillRun {
     if (engine_->size() > result_.max_parts && engine_->size() > 1) remove_newest();
     int idle = 0;
     while (engine_->size() < result_.max_parts && idle < o_.top_up_patience) {
-      const std::vector<bool> born = run_batch(true);
-      const bool any = std::find(born.begin(), born.end(), true) != born.end();
+      const std::vector<int> born = run_batch(true);
+      const bool any = std::any_of(born.begin(), born.end(), [](int b) { return b > 0; });
       idle = any ? 0 : idle + static_cast<int>(born.size());
     }
     result_.passes.push_back({"pass 2", engine_->steps_done() - first, seconds_since(t)});
@@ -313,6 +336,7 @@ class FillRun {
     fill_steps_ = engine_->steps_done();
     const std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
+    report_particles(ps.size(), 0, 0);  // the phase starts (progress lines, time left)
     const FinishSettings s = finish_settings();
     FinishStats stats;
     particles_ = finish_packing(*device_, params_, field_, ps, s, stats,
@@ -375,15 +399,17 @@ class FillRun {
   /// Runs `sync_every` steps (with birth attempts when `births`), then reads
   /// the history (and, while births may follow or a frame is due, a snapshot of the
   /// positions), removes flagged particles, reports progress.
-  /// Returns, per step of the batch, whether a particle was born before it.
-  std::vector<bool> run_batch(bool births) {
+  /// Returns, per step of the batch, how many particles were born before it.
+  std::vector<int> run_batch(bool births) {
     throw_if_cancelled();
-    std::vector<bool> born(static_cast<size_t>(o_.sync_every), false);
+    // Waves: one wave a batch, right after the snapshot it tests room on.
+    const int steps = waves_ ? birth_every_ : o_.sync_every;
+    std::vector<int> born(static_cast<size_t>(steps), 0);
     if (o_.sort_every > 0 && engine_->steps_done() >= next_sort_) renumber_along_cells();
-    for (int s = 0; s < o_.sync_every; ++s) {
-      if (births && engine_->steps_done() % static_cast<uint64_t>(o_.birth_every) == 0 &&
-          (phase_ != "pass 2" || engine_->size() < result_.max_parts))
-        born[s] = birth_at_sites();
+    for (int s = 0; s < steps; ++s) {
+      const bool due = waves_ ? s == 0 : engine_->steps_done() % static_cast<uint64_t>(birth_every_) == 0;
+      if (births && due && (phase_ != "pass 2" || engine_->size() < result_.max_parts))
+        born[s] = waves_ ? birth_wave() : birth_at_sites();
       engine_->run_steps(1);
     }
     history_ = engine_->read_history();
@@ -422,23 +448,44 @@ class FillRun {
   /// for (2r, or more for sparser fills), which the room tests scale with.
   double rest_distance() const { return o_.rest_distance * 2 * radius_; }
 
-  /// One newborn at each site with room; returns whether any was born.
-  bool birth_at_sites() {
-    bool any = false;
-    const double clearance = o_.birth_clearance * rest_distance();
+  /// One newborn at each site with room; returns how many were born.
+  int birth_at_sites() {
+    int born = 0;
+    const double clearance = birth_clearance_ * rest_distance();
     for (const BirthSite& site : sites_) {
       if (phase_ == "pass 2" && engine_->size() >= result_.max_parts) break;
       if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, clearance)) continue;
-      Particle p;
-      p.position = site.position;
-      p.radius = radius_;
-      p.id = next_id_++;
-      p.velocity = random_direction() * (top_speed_ * (o_.birth_speed_min + (o_.birth_speed_max - o_.birth_speed_min) * speed_(rng_)));
+      const Particle p = newborn_at(site.position);
       newest_ = engine_->add_particle(p);
       newborns_.push_back({p.position, p.velocity, engine_->steps_done()});
-      any = true;
+      ++born;
     }
-    return any;
+    return born;
+  }
+
+  /// A wave: one newborn at every site with room in the snapshot just
+  /// read (a grid of it answers each site in O(1)), added in one upload.
+  /// Sites lie several rest distances apart, so newborns of one wave
+  /// never crowd each other. Returns how many were born.
+  int birth_wave() {
+    const RoomGrid room(snapshot_, birth_clearance_ * rest_distance());
+    std::vector<Particle> newborns;
+    for (const BirthSite& site : sites_) {
+      if (phase_ == "pass 2" && engine_->size() + newborns.size() >= result_.max_parts) break;
+      if (room.has_room(site.position)) newborns.push_back(newborn_at(site.position));
+    }
+    if (!newborns.empty()) newest_ = engine_->add_particles(newborns) + newborns.size() - 1;
+    return static_cast<int>(newborns.size());
+  }
+
+  Particle newborn_at(const Vec3& position) {
+    Particle p;
+    p.position = position;
+    p.radius = radius_;
+    p.id = next_id_++;
+    p.velocity = random_direction() *
+                 (top_speed_ * (o_.birth_speed_min + (o_.birth_speed_max - o_.birth_speed_min) * speed_(rng_)));
+    return p;
   }
 
   /// Newborns since the last snapshot fly straight at their birth speed
@@ -511,20 +558,44 @@ class FillRun {
     if (dt > 0 && p.step >= last_step_) p.steps_per_second = (p.step - last_step_) / dt;
     last_report_ = Clock::now();
     last_step_ = p.step;
-    if (phase_ == "pass 1") {
-      // Births slow down as the object fills and steps grow dearer: the
-      // rate over the last half minute extrapolates the rest, and the
-      // passes after pass 1 take about a fifth of its time.
-      rate_samples_.push_back({p.elapsed, n});
-      while (rate_samples_.size() > 2 && p.elapsed - rate_samples_[1].first > 30) rate_samples_.pop_front();
-      const auto& [t0, n0] = rate_samples_.front();
-      if (p.elapsed - t0 > 2 && n > n0) {
-        const double rate = static_cast<double>(n - n0) / (p.elapsed - t0);
-        p.remaining = 1.2 * std::max(0.0, static_cast<double>(result_.expected) - n) / rate;
-      }
-    }
+    p.remaining = time_left(p.elapsed, n, p.step);
     o_.progress(p);
   }
+
+  /// Seconds left, or -1 when there is no honest figure. Pass 1: the
+  /// births still to come (to the expected count, 5% over, as pass 1
+  /// ends overfull) at the birth rate of the last half minute. Then the
+  /// passes after it, about kStepsAfterPass1 steps, each as dear as a step
+  /// now (twice, kAfterStepCost), scaled to the expected count (a step
+  /// costs in proportion to the particles). Past that many steps after
+  /// pass 1, -1.
+  double time_left(double elapsed, size_t n, uint64_t step) {
+    if (phase_ != "pass 1" && phase_ != "pass 2" && phase_ != "settle" && phase_ != "relief" && phase_ != "voids")
+      return -1;
+    rate_samples_.push_back({elapsed, n, step});
+    while (rate_samples_.size() > 2 && elapsed - rate_samples_[1].elapsed > 30) rate_samples_.pop_front();
+    const RateSample& first = rate_samples_.front();
+    if (elapsed - first.elapsed < 2 || step <= first.step || n == 0) return -1;
+    const double per_step = (elapsed - first.elapsed) / static_cast<double>(step - first.step);
+    const double full = std::max(static_cast<double>(n), 1.05 * static_cast<double>(result_.expected));
+    const double step_when_full = per_step * full / static_cast<double>(n);
+    if (phase_ == "pass 1") {
+      if (n <= first.particles) return -1;
+      const double rate = static_cast<double>(n - first.particles) / (elapsed - first.elapsed);
+      // It ends a patience window after births fade, whatever the count.
+      const double births_left = std::max((full - static_cast<double>(n)) / rate, o_.blocked.patience * per_step);
+      return births_left + kStepsAfterPass1 * kAfterStepCost * step_when_full;
+    }
+    const double after = static_cast<double>(step - pass1_end_step_);
+    return after < kStepsAfterPass1 ? (kStepsAfterPass1 - after) * per_step : -1;
+  }
+
+  /// Steps of settle, relief and voids together in fills of spot at 4,000
+  /// and 16,000 (11,000-17,000); it changes when those passes do.
+  static constexpr double kStepsAfterPass1 = 15000;
+  /// Their steps cost about twice a step of pass 1 (each relief round of
+  /// 300 steps reads every particle back and searches the overlaps).
+  static constexpr double kAfterStepCost = 2;
 
   Mesh mesh_;
   FillOptions o_;
@@ -533,7 +604,13 @@ class FillRun {
   Clock::time_point start_ = Clock::now();
   Clock::time_point last_report_ = Clock::now();
   uint64_t last_step_ = 0;
-  std::deque<std::pair<double, size_t>> rate_samples_;  ///< (elapsed, particles) for the time-left estimate
+  struct RateSample {
+    double elapsed;
+    size_t particles;
+    uint64_t step;
+  };
+  std::deque<RateSample> rate_samples_;  ///< for the time-left estimate
+  uint64_t pass1_end_step_ = 0;          ///< progress step count when pass 1 ended
   uint64_t last_frame_ = 0;
   double volume_ = 0;
   double radius_ = 0;
@@ -541,6 +618,9 @@ class FillRun {
   std::unique_ptr<Boundary> boundary_;
   ScalarGrid field_;
   std::vector<BirthSite> sites_;
+  bool waves_ = false;   ///< births in waves over spread sites (FillOptions::sites == 0)
+  int birth_every_ = 3;  ///< steps between births at a site
+  double birth_clearance_ = 0.5;  ///< room test radius, in rest distances
   std::unique_ptr<Device> device_;
   EngineParams params_;
   std::unique_ptr<Engine> engine_;
@@ -594,6 +674,10 @@ void refuse_stray_vertices(const Mesh& mesh, const FillOptions& o) {
   const double volume = diagnose(mesh).volume();
   const double radius = o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
   if (!(radius > 0) || mesh.positions.empty()) return;
+  // Too many particles is the first thing to say (the run's check says it).
+  const double half_rest = radius * o.rest_distance;
+  if (o.count > kMaxParticles || kExpectedPacking * volume / (4.0 / 3.0 * kPi * std::pow(half_rest, 3)) > kMaxParticles)
+    return;
   const Vec3 size = mesh.bounds().size();
   const double spacing = o.field_spacing * radius, margin = 2 * radius + 3 * spacing;
   const double samples = (size.x + 2 * margin) / spacing * ((size.y + 2 * margin) / spacing) *

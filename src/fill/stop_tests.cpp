@@ -64,9 +64,17 @@ StopVerdict CollisionCountTest::observe(const StepRecord& r, bool born) {
   return StopVerdict::RemoveNewest;
 }
 
-StopVerdict BlockedSitesTest::observe(bool any_birth) {
-  idle_ = any_birth ? 0 : idle_ + 1;
-  return idle_ >= s_.patience ? StopVerdict::Overfull : StopVerdict::Continue;
+StopVerdict BlockedSitesTest::observe(int births, size_t count) {
+  idle_ = births > 0 ? 0 : idle_ + 1;
+  if (idle_ >= s_.patience) return StopVerdict::Overfull;
+  if (s_.share <= 0) return StopVerdict::Continue;
+  int& slot = window_[steps_++ % window_.size()];
+  window_births_ += births - slot;
+  slot = births;
+  const bool window_full = steps_ >= window_.size();
+  return window_full && static_cast<double>(window_births_) <= s_.share * static_cast<double>(count)
+             ? StopVerdict::Overfull
+             : StopVerdict::Continue;
 }
 
 }  // namespace pfill
