@@ -13,7 +13,7 @@
 //
 // --scale fills one mesh (spot by default) at each count of --sizes (-n),
 // each in a child process of its own so that its peak memory (RSS) is its
-// own, and prints time, steps and seconds per pass, packing, largest
+// own, and prints time (wall and CPU), steps and seconds per pass, packing, largest
 // overlap, containment and peak memory per count, then the exponent of
 // time against the count (least squares over log-log, and between
 // neighbouring sizes). --sites / --birth-every run another birth schedule
@@ -159,6 +159,7 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
            {"voids_filled", r.voids_filled},
            {"stop_signal", r.stop_signal},
            {"peak_rss_mib", ru.ru_maxrss / 1024.0},
+           {"cpu_seconds", ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec)},
            {"device", r.device}};
     } catch (const std::exception& e) {
       j = {{"asked", count}, {"error", e.what()}};
@@ -213,12 +214,12 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
   std::printf("scale: %s, sites %s, birth every %s\n", c.name.c_str(),
               sites ? std::to_string(sites).c_str() : "auto (waves)",
               birth_every ? std::to_string(birth_every).c_str() : "auto");
-  std::printf("| -n | spheres | time s | field s | pass 1 steps (s) | settle steps | relief steps (s) | voids steps (s) "
+  std::printf("| -n | spheres | time s | CPU s | field s | pass 1 steps (s) | settle steps | relief steps (s) | voids steps (s) "
               "| packing | largest overlap | inside | peak RSS |\n");
-  std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
+  std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   std::fflush(stdout);
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
-  std::vector<double> xs, ys;
+  std::vector<double> xs, ys, cpu;
   for (size_t n : sizes) {
     const nlohmann::ordered_json j = scale_fill(mesh, n, sites, birth_every, device);
     runs.push_back(j);
@@ -226,8 +227,9 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
       std::printf("| %zu | failed: %s |\n", n, j["error"].get<std::string>().c_str());
       continue;
     }
-    std::printf("| %zu | %zu | %.1f | %.1f | %.0f (%.1f) | %.0f | %.0f (%.1f) | %.0f (%.1f) | %.4f | %.2f%% r | %.2f%% | %.0f MiB |\n",
-                n, j["count"].get<size_t>(), j["seconds"].get<double>(), j["field_seconds"].get<double>(),
+    std::printf("| %zu | %zu | %.1f | %.1f | %.1f | %.0f (%.1f) | %.0f | %.0f (%.1f) | %.0f (%.1f) | %.4f | %.2f%% r | %.2f%% | %.0f MiB |\n",
+                n, j["count"].get<size_t>(), j["seconds"].get<double>(), j["cpu_seconds"].get<double>(),
+                j["field_seconds"].get<double>(),
                 pass_steps(j, "pass 1"), pass_seconds(j, "pass 1"), pass_steps(j, "settle"), pass_steps(j, "relief"),
                 pass_seconds(j, "relief"), pass_steps(j, "voids"), pass_seconds(j, "voids"),
                 j["packing_fraction"].get<double>(), 100 * j["max_overlap"].get<double>(),
@@ -235,6 +237,7 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
     std::fflush(stdout);
     xs.push_back(std::log(static_cast<double>(n)));
     ys.push_back(std::log(j["seconds"].get<double>()));
+    cpu.push_back(std::log(j["cpu_seconds"].get<double>()));
   }
   nlohmann::ordered_json out{{"mesh", c.name}, {"sites", sites}, {"birth_every", birth_every}, {"runs", runs}};
   if (xs.size() >= 2) {
@@ -249,6 +252,12 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
                   std::exp(ys[i] - ys[i - 1]), std::exp(xs[i] - xs[i - 1]), (ys[i] - ys[i - 1]) / (xs[i] - xs[i - 1]));
     std::printf("\n");
     out["exponent"] = exponent;
+    double cxy = 0, cmy = 0;
+    for (double c : cpu) cmy += c / cpu.size();
+    for (size_t i = 0; i < xs.size(); ++i) cxy += (xs[i] - mx) * (cpu[i] - cmy);
+    std::printf("CPU time ~ N^%.2f (least squares; on a shared machine steadier than the wall time)\n",
+                sxx > 0 ? cxy / sxx : 0);
+    out["cpu_exponent"] = sxx > 0 ? cxy / sxx : 0;
   }
   return out;
 }

@@ -1,6 +1,6 @@
 /// @file fill.hpp
 /// @brief The fill: a closed mesh in, a dense set of spheres out, by the
-/// physics method of DESIGN.md (births at the deepest points, Lennard-Jones
+/// physics method of DESIGN.md (births inside at many sites, Lennard-Jones
 /// pushes and inelastic collisions on the OpenCL engine, stop when overfull,
 /// top up, settle, relieve overlaps, verify exactly).
 #pragma once

@@ -1,7 +1,8 @@
 // The fill, read top-down as the algorithm of DESIGN.md:
 //
 //   prepare: mesh -> boundary -> signed distance field -> birth sites -> engine
-//   pass 1:  while not overfull: births at the sites; update
+//   pass 1:  while not overfull: births at the sites; update (by default
+//            in waves over sites spread through the inside: see birth_wave)
 //   pass 2:  MaxParts = count - 1; top up to MaxParts (refill what was lost)
 //   settle:  update until at rest
 //   finish:  relax overlaps away by moving spheres (a damped repulsive
@@ -9,9 +10,10 @@
 //            delete only where it stalls over the bound; fill holes
 //   verify:  exact containment repair and metrics
 //
-// The host never reads positions per step: it runs `sync_every` steps,
-// then reads the step history (kinetic energy, colliding pairs, ...) and a
-// snapshot of the positions that the birth-room test uses.
+// The host never reads positions per step: it runs `sync_every` steps (a
+// wave's `birth_every` with waves), then reads the step history (kinetic
+// energy, colliding pairs, ...) and a snapshot of the positions that the
+// birth-room test uses.
 #include "pfill/fill.hpp"
 
 #include <algorithm>
