@@ -212,7 +212,7 @@ double pass_seconds(const nlohmann::ordered_json& j, const std::string& name) {
 nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vector<size_t>& sizes, int sites,
                                  int birth_every, const std::string& device) {
   std::printf("scale: %s, sites %s, birth every %s\n", c.name.c_str(),
-              sites ? std::to_string(sites).c_str() : "auto (waves)",
+              sites >= 0 ? std::to_string(sites).c_str() : "auto",
               birth_every ? std::to_string(birth_every).c_str() : "auto");
   std::printf("| -n | spheres | time s | CPU s | field s | pass 1 steps (s) | settle steps | relief steps (s) | voids steps (s) "
               "| packing | largest overlap | inside | peak RSS |\n");
@@ -269,7 +269,7 @@ int main(int argc, char** argv) {
   int seeds = 1;
   bool stop_compare = false, scale = false;
   std::vector<size_t> sizes{4000, 16000, 64000, 100000};
-  int sites = 0, birth_every = 0;
+  int sites = -1, birth_every = 0;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {

@@ -23,6 +23,7 @@ FillOptions wave_fill(size_t count, uint64_t seed = 1) {
   FillOptions o;
   o.count = count;
   o.seed = seed;
+  o.sites = 0;  // waves, whatever the count
   o.colour = ColourOptions{ColourMode::None, {}};
   return o;
 }

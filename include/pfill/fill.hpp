@@ -48,14 +48,16 @@ struct FillOptions {
   double time_step = 0.01;      ///< in units of the potential's time scale tau = sigma sqrt(m / eps)
   double max_step_fraction = 0.1;   ///< no particle moves more than this many sigma a step (the top speed)
 
-  // Births. Two schedules:
-  // - waves (sites = 0, the default): sites spread over the whole interior,
+  // Births. Two schedules (sites = -1, the default, picks waves from about
+  // 2,000 particles on, where they are faster, and the report's 2 sites
+  // below, where they pack denser and the fill takes seconds anyway):
+  // - waves (sites = 0): sites spread over the whole interior,
   //   one per ~site_spacing^3 of volume, so their number grows with the
   //   count and pass 1 takes about as many steps at any size; every
   //   `birth_every` steps each site with room gets a newborn (one wave).
   // - the report's (sites >= 1): the deepest point, then far deep points
   //   (`--sites 1 --birth-every 1` is the report's single birth point).
-  int sites = 0;                ///< 0: waves over spread sites; N >= 1: N deepest, far-apart sites
+  int sites = -1;               ///< -1: automatic; 0: waves over spread sites; N >= 1: N deepest, far-apart sites
   double site_depth_share = 0.75;  ///< sites >= 1: sites after the first are at least this share of the deepest depth
   int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 48 (waves)
   double site_spacing = 5;      ///< waves: sites at least this many rest distances (2r) apart

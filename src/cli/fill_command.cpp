@@ -243,8 +243,9 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->check(whole_number(0, UINT64_MAX))
       ->capture_default_str();
   cmd->add_option("--sites", o.sites,
-                  "Birth sites: 0 = births in waves over sites spread through the inside (one per --site-spacing); "
-                  "N = the deepest point, then far deep points (the report's schedule)")
+                  "Birth sites: -1 = automatic (waves from about 2,000 particles on, else 2 sites); 0 = births in "
+                  "waves over sites spread through the inside (one per --site-spacing); N = the deepest point, "
+                  "then far deep points (the report's schedule)")
       ->capture_default_str();
   cmd->add_option("--site-spacing", o.site_spacing, "Waves (--sites 0): sites at least this many rest distances apart")
       ->capture_default_str();

@@ -41,6 +41,12 @@ constexpr size_t kMaxParticles = 100'000'000;
 // (spot, -n 16,000: every 24 steps 0.642, every 48 0.646), while pass 1
 // stays about 20,000 steps at any count.
 constexpr int kWaveEvery = 48;
+// The automatic schedule's switch to waves (FillOptions::sites = -1): below
+// this count the report's two sites pack denser (spot -n 1000: 0.574
+// against 0.570; a self-intersecting pair of cubes at 300: 0.56 against
+// 0.42) and take no longer; from it on, waves are faster (spot -n 4000:
+// 8.2 s against 12.9 s; the bunny 11 s against 19 s).
+constexpr size_t kWavesFrom = 2000;
 
 using Clock = std::chrono::steady_clock;
 
@@ -134,12 +140,12 @@ class FillRun {
     result_.field_bytes = stats.bytes;
     result_.field_spacing = so.spacing;
 
-    waves_ = o_.sites == 0;
+    waves_ = o_.sites == 0 || (o_.sites < 0 && result_.expected >= kWavesFrom);
     birth_every_ = o_.birth_every > 0 ? o_.birth_every : (waves_ ? kWaveEvery : 3);
     birth_clearance_ = o_.birth_clearance > 0 ? o_.birth_clearance : (waves_ ? 0.55 : 0.5);
     if (waves_) sites_ = spread_birth_sites(field_, o_.site_spacing * rest_distance(), o_.site_min_depth * radius_);
     if (sites_.empty())  // the report's sites; for waves, the one deepest point of a thin object
-      sites_ = choose_birth_sites(field_, std::max(1, o_.sites), radius_, o_.site_depth_share);
+      sites_ = choose_birth_sites(field_, o_.sites < 0 ? 2 : std::max(1, o_.sites), radius_, o_.site_depth_share);
     if (sites_.empty()) {
       double deepest = 0;
       for (float v : field_.values) deepest = std::max(deepest, -static_cast<double>(v));
@@ -193,7 +199,7 @@ class FillRun {
     need(o_.count <= kMaxParticles, "a count of " + std::to_string(o_.count) + " is more than pfill handles (" +
                                         fmt(kMaxParticles) + "); ask for fewer particles");
     need(o_.rest_distance >= 1, "--rest-distance must be >= 1 (a multiple of the contact distance 2r)");
-    need(o_.sites >= 0 && o_.sites <= 64, "--sites must be 0..64 (0: births in waves over sites spread inside)");
+    need(o_.sites >= -1 && o_.sites <= 64, "--sites must be -1..64 (-1: automatic; 0: births in waves over sites spread inside)");
     need(o_.birth_every >= 0, "--birth-every must be >= 1 (or 0: automatic)");
     need(o_.birth_stop_share >= 0 && o_.birth_stop_share < 1, "the birth stop share must be in [0, 1)");
     need(o_.site_spacing >= 0.5, "--site-spacing must be >= 0.5 rest distances");
@@ -341,8 +347,10 @@ class FillRun {
     report_particles(ps.size(), 0, 0);  // the phase starts (progress lines, time left)
     const FinishSettings s = finish_settings();
     FinishStats stats;
-    particles_ = finish_packing(*device_, params_, field_, ps, s, stats,
-                                [&](size_t n, uint32_t pairs) { report_particles(n, 0, pairs); });
+    particles_ = finish_packing(*device_, params_, field_, ps, s, stats, [&](size_t n, uint32_t pairs) {
+      relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
+      report_particles(n, 0, pairs);
+    });
     relax_steps_ = stats.steps;
     result_.relief_removed = stats.removed;
     result_.relief_forced = stats.forced;
@@ -572,7 +580,7 @@ class FillRun {
   /// costs in proportion to the particles). Past that many steps after
   /// pass 1, -1.
   double time_left(double elapsed, size_t n, uint64_t step) {
-    if (phase_ != "pass 1" && phase_ != "pass 2" && phase_ != "settle" && phase_ != "relief" && phase_ != "voids")
+    if (phase_ != "pass 1" && phase_ != "pass 2" && phase_ != "settle" && phase_ != "finish")
       return -1;
     rate_samples_.push_back({elapsed, n, step});
     while (rate_samples_.size() > 2 && elapsed - rate_samples_[1].elapsed > 30) rate_samples_.pop_front();
@@ -592,12 +600,12 @@ class FillRun {
     return after < kStepsAfterPass1 ? (kStepsAfterPass1 - after) * per_step : -1;
   }
 
-  /// Steps of settle, relief and voids together in fills of spot at 4,000
-  /// and 16,000 (11,000-17,000); it changes when those passes do.
-  static constexpr double kStepsAfterPass1 = 15000;
-  /// Their steps cost about twice a step of pass 1 (each relief round of
-  /// 300 steps reads every particle back and searches the overlaps).
-  static constexpr double kAfterStepCost = 2;
+  /// Steps of settle and the finish together in fills of spot at 4,000
+  /// and 16,000 (about 8,000-15,000); it changes when those passes do.
+  static constexpr double kStepsAfterPass1 = 12000;
+  /// Their steps cost about as much as a step of pass 1 (the finish reads
+  /// positions back once a relaxation, and searches the overlaps then).
+  static constexpr double kAfterStepCost = 1.2;
 
   Mesh mesh_;
   FillOptions o_;
