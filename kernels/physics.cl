@@ -1,6 +1,6 @@
 /* physics.cl: the pair potential, the contact response and the boundary
  * field sampling as small stateless functions. Shared word for word by the
- * OpenCL kernels (PF_REAL = float, built before engine.cl) and by the
+ * OpenCL kernels (PF_REAL = float, built before the step files) and by the
  * double-precision C++ reference (src/engine/reference.cpp includes this
  * file with PF_REAL = double), so the oracle tests compare one formula.
  * Compiles on its own as OpenCL C 1.2. */
@@ -76,7 +76,7 @@ PF_FN PF_REAL pf_wall_velocity_change(PF_REAL un, PF_REAL wall_restitution) {
  * the offsets along x, y, z) at fractions (tx, ty, tz), and in g[0..2] the
  * exact gradient of the interpolant. Shared by every way of reading the
  * corners (buffer, image), so all give the same value and gradient; as a
- * definition over the value type T, so that engine.cl's 8-lane sample
+ * definition over the value type T, so that field.cl's 8-lane sample
  * (T = float8) has the same formula too. */
 #define PF_DEFINE_TRILINEAR(NAME, T)                                                                      \
   PF_FN T NAME(T v000, T v100, T v010, T v110, T v001, T v101, T v011, T v111, T tx, T ty, T tz,          \

@@ -1,6 +1,6 @@
 // The OpenCL particle engine: device buffers, program build, and the host
 // side of births, removals, steps and read-backs (see engine.hpp and the
-// top of kernels/engine.cl for the step's design).
+// top of kernels/common.cl for the step's design).
 #include "pfill/engine/engine.hpp"
 
 #include <algorithm>
@@ -18,7 +18,7 @@ namespace pfill {
 
 namespace {
 
-constexpr size_t kRecord = 8;           // floats per history / partial record (engine.cl PF_RECORD)
+constexpr size_t kRecord = 8;           // floats per history / partial record (common.cl pf_record)
 
 std::string flt(double v) {
   std::ostringstream s;
@@ -49,6 +49,15 @@ uint32_t as_uint(float f) {
   uint32_t u;
   std::memcpy(&u, &f, sizeof u);
   return u;
+}
+
+// The kernel files of a step form, in build order (kernels/common.cl
+// says what each holds).
+std::vector<std::string> kernel_files(bool gpu_form) {
+  if (gpu_form)
+    return {"physics.cl", "common.cl", "cells.cl", "gpu_lists.cl", "births_removals.cl", "field.cl", "gpu_step.cl"};
+  return {"physics.cl", "common.cl",          "x86.cl",       "cells.cl",    "cpu_lists.cl",
+          "births_removals.cl", "field.cl", "cpu_pairs.cl", "cpu_step.cl"};
 }
 
 // EngineParams::step_form resolved for the device.
@@ -93,9 +102,9 @@ struct Engine::Impl {
   std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
   int cur = 0;  // which half of X and V holds the current state
   cl::Buffer X[2], V[2], flags, clearance;
-  // Neighbour lists (see the top of engine.cl).
+  // Neighbour lists (see kernels/cells.cl).
   cl::Buffer lists, list_counts, list_origins, rebuild_requests;
-  cl::Buffer list_spans;  // CPU form with Newton: each packed row's first word and room (engine.cl PF_LIST_ROW)
+  cl::Buffer list_spans;  // CPU form with Newton: each packed row's first word and room (cpu_lists.cl PF_LIST_ROW)
   // CPU form with EngineParams::inner_lists: the inner lists (rows as the
   // lists'), their counts, and where each particle was when they were pruned.
   cl::Buffer inner_lists, inner_counts, prune_origins;
@@ -121,7 +130,7 @@ struct Engine::Impl {
   cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
   cl_float4 sdf_origin{};
   cl_int4 sdf_dims{};
-  // Per-step scalars in flight (see the top of engine.cl): level-1
+  // Per-step scalars in flight (see kernels/cells.cl): level-1
   // partials of the last step, level-2 partials of the one before.
   cl::Buffer level1[2], level2[2], history;
   size_t level1_pending = 0;  // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
@@ -138,7 +147,7 @@ struct Engine::Impl {
         pair_queue(!gpu_form && (p.pair_queue == PairQueue::automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on)),
         inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < params.skin_sigma
                                                                      : p.inner_lists == InnerLists::on)),
-        program(d, {"physics.cl", "engine.cl"}, defines()) {
+        program(d, kernel_files(gpu_form), defines()) {
     k_step = program.kernel("advance", group_size);
     k_finalize = program.kernel("finalize_history", group_size);
     for (const Kernel* k : {&k_step, &k_finalize})
@@ -201,7 +210,6 @@ struct Engine::Impl {
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
     size_t root = 1;  // about sqrt(PF_WG): two short serial runs
     while (4 * root * root <= group_size) root *= 2;
-    d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
     d["PF_NEWTON"] = newton ? "1" : "0";
     d["PF_PAIR_QUEUE"] = pair_queue ? "1" : "0";
     d["PF_INNER"] = inner ? "1" : "0";
@@ -276,7 +284,7 @@ struct Engine::Impl {
 
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
   // Level-1 partials of a step of n particles: one a work-group (GPU
-  // form), or one an octet of particles, the last maybe partial (engine.cl
+  // form), or one an octet of particles, the last maybe partial (cpu_step.cl
   // advance).
   size_t level1_count(size_t count) const {
     return std::max<size_t>(gpu_form ? groups_for(count) : (count + 7) / 8, 1);
@@ -294,7 +302,7 @@ struct Engine::Impl {
     if (want <= capacity) return;
     size_t cap = std::max<size_t>(capacity, 64);
     while (cap < want) cap *= 2;
-    // CPU list rows hold byte offsets (16 j: see PF_ENTRY in engine.cl),
+    // CPU list rows hold byte offsets (16 j: see PF_ENTRY in cpu_lists.cl),
     // which the AVX-512 gathers take as signed 32-bit.
     if (!gpu_form && cap > (size_t(1) << 27))
       throw Error("engine: " + std::to_string(want) + " particles are more than the CPU form holds (2^27); use a larger radius");
@@ -411,6 +419,13 @@ struct Engine::Impl {
              "clEnqueueFillBuffer", "cells to empty");
   }
 
+  // The list request words (rebuild_requests) rotate over three: the next
+  // step reads the one the last step raised (births and removals raise it
+  // too), raises the next, and clears the third for the step after.
+  cl_uint request_read() const { return static_cast<cl_uint>((steps + 2) % 3); }
+  cl_uint request_raise() const { return static_cast<cl_uint>(steps % 3); }
+  cl_uint request_clear() const { return static_cast<cl_uint>((steps + 1) % 3); }
+
   // This step's set of cell counts: its first word.
   cl_uint cell_base() const { return static_cast<cl_uint>((steps % 2) * cell_total); }
 
@@ -424,7 +439,7 @@ struct Engine::Impl {
   void insert_cells(bool force) {
     k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), touched, touched_upto,
                       cl_uint(capacity), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                      rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
+                      rebuild_requests, request_read(), cl_uint(force ? 1 : 0));
     // GPUs: an item a particle; CPU devices: a group a core, each item
     // looping (a launch of n items costs PoCL ~0.2 us a group even on the
     // steps that return at once).
@@ -456,7 +471,7 @@ struct Engine::Impl {
     insert_cells(force);
     if (!gpu_form) {
       k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                       lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
+                       lists, list_counts, list_origins, build_bits, rebuild_requests, request_read(),
                        cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows(), inner_lists, inner_counts,
                        prune_origins, list_spans, force_spans);
       run(k_pairs, pair_items());
@@ -464,14 +479,22 @@ struct Engine::Impl {
     const size_t h = params.history_capacity;
     const int now = static_cast<int>(steps % 2), last = 1 - now;
     const size_t level2_now = groups_for(level1_pending);  // the last step's level-2 partials, made now
+    // (the two forms' `advance` take different arguments: gpu_step.cl, cpu_step.cl)
     auto set_step_args = [&](const auto& field) {
-      k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
-                      cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
-                      level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
-                      history, cl_uint((steps + h - 2) % h), lists,
-                      list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
-                      cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), forces, cl_uint(force_groups),
-                      cl_uint(capacity), build_bits, prune_origins, force_spans);
+      if (gpu_form)
+        k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
+                        cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
+                        level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
+                        history, cl_uint((steps + h - 2) % h), lists, list_counts, list_origins, rebuild_requests,
+                        request_read(), request_raise(), request_clear(),
+                        cl_uint(force ? 1 : 0));
+      else
+        k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
+                        level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
+                        history, cl_uint((steps + h - 2) % h), list_origins, prune_origins, rebuild_requests,
+                        request_read(), request_raise(), request_clear(),
+                        cl_uint(force ? 1 : 0), forces, cl_uint(force_groups), cl_uint(capacity), force_spans,
+                        build_bits);
     };
     if (params.field_image)
       set_step_args(sdf_image);
@@ -510,7 +533,7 @@ struct Engine::Impl {
       StepRecord rec;
       rec.step = s;
       rec.kinetic_energy = r[0];
-      rec.max_speed = std::sqrt(r[1]);  // the kernels keep squares (engine.cl pf_record)
+      rec.max_speed = std::sqrt(r[1]);  // the kernels keep squares (common.cl pf_record)
       rec.max_displacement = std::sqrt(r[2]);
       rec.lists_rebuilt = r[3] > 0.5f;
       rec.colliding_pairs = as_uint(r[4]);
@@ -573,7 +596,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   for (const Particle& p : particles) m.ids.push_back(p.id);
   if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
     m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts, m.list_spans,
-                              m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
+                              m.list_origins, m.rebuild_requests, m.request_read(), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
     m.newcomers.push_back(static_cast<int>(first));
@@ -613,7 +636,7 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
       m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
                                  m.list_spans, m.list_origins, cl_uint(m.n), cl_uint(idx), m.rebuild_requests,
-                                 cl_uint((m.steps + 2) % 3));
+                                 m.request_read());
       m.run(m.k_remove_linked, m.n);
       // A newcomer's unsorted row moves with it from `last` to `idx`.
       for (int& k : m.newcomers)

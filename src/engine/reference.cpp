@@ -1,6 +1,6 @@
 // The double-precision oracle of the engine step: the same formulas
 // (kernels/physics.cl, included below with PF_REAL = double) and the same
-// order of operations as kernels/engine.cl, with brute-force pairs.
+// order of operations as the kernels (kernels/*_step.cl), with brute-force pairs.
 #include "pfill/engine/reference.hpp"
 
 #include <algorithm>
@@ -31,7 +31,7 @@ using ::sqrt;
 
 namespace {
 
-constexpr int kWallIterations = 2;  // as PF_WALL_ITERATIONS in engine.cl
+constexpr int kWallIterations = 2;  // as PF_WALL_ITERATIONS in the kernels
 
 double sample(const ScalarGrid& f, const Vec3& p, Vec3& g) {
   double gg[3];
