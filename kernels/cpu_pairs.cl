@@ -14,30 +14,24 @@
  * reach) the rows are only tested and the entries in reach queued, then
  * computed 8 pairs at a time across rows (pf_queue_push). */
 
+/* physics.cl's rules at 8 lanes. */
+PF_DEFINE_POW_HALF(pf_pow_half8, float8)
+PF_DEFINE_APART(pf_apart8, float8, int8)
+PF_DEFINE_CONTACT_DAMPING(pf_contact_damping8, float8, pf_rsqrt8)
+
 /* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
- * 1/d, with the prelude's constants (the same formula with the divisions
- * shared; the oracle tests tie the two). */
+ * 1/d, with the prelude's constants: the same powers (pf_pow_half8), with
+ * the divisions shared, and for a = 2b the combination rearranged (the
+ * oracle tests tie it to physics.cl's). */
 float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
   const float8 x = PF_SIGMA2 * inv_d2;
-#if PF_EXP_B_HALF > 0
-  float8 sb = x;
-#pragma unroll
-  for (int k = 1; k < PF_EXP_B_HALF; ++k) sb *= x;
-#else
-  const float8 sb = pow(x, (float8)(0.5f * PF_EXP_B));
-#endif
+  const float8 sb = pf_pow_half8(x, PF_EXP_B, PF_EXP_B_HALF);
 #if PF_EXP_B_HALF > 0 && PF_EXP_A_HALF == 2 * PF_EXP_B_HALF
   /* a = 2b (12-6): 4 eps (a sb - b) sb / d^2, two multiplies fewer on the
    * dependency chain from d^2 to the force than the general form */
   const float8 k = (4.0f * PF_EPS * PF_EXP_A * sb - 4.0f * PF_EPS * PF_EXP_B) * (sb * inv_d2);
 #else
-#if PF_EXP_A_HALF > 0
-  float8 sa = x;
-#pragma unroll
-  for (int k = 1; k < PF_EXP_A_HALF; ++k) sa *= x;
-#else
-  const float8 sa = pow(x, (float8)(0.5f * PF_EXP_A));
-#endif
+  const float8 sa = pf_pow_half8(x, PF_EXP_A, PF_EXP_A_HALF);
   const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) * inv_d2;
 #endif
   const float8 k_max = PF_FORCE_CAP * inv_d;
@@ -64,18 +58,13 @@ void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, flo
 /* The potential's part of 8 pairs' forces on their first particles, as
  * the scale k of F = k d (d = x_i - x_j; pf_lj_force_scale8, zero beyond
  * the cutoff and where not `near`; d2 finite in every lane). Pairs on top
- * of each other get a fixed, antisymmetric direction (its sign from
- * jj > i_entry), written back to d and d2. *inv_d: 1/|d|. Shared by the
+ * of each other get physics.cl's pf_apart direction, written back to d
+ * and d2. *inv_d: 1/|d|. Shared by the
  * row loop and the pair queue, so both compute the same forces. */
 float8 pf_potential8(float8* dx, float8* dy, float8* dz, float8* d2, int8 near, uint8 i_entry, uint8 jj,
                      float8* inv_d) {
   const int8 tiny = near & (*d2 < PF_D_MIN * PF_D_MIN);
-  if (pf_any8(tiny)) {
-    *dx = select(*dx, select((float8)(PF_D_MIN), (float8)(-PF_D_MIN), jj > i_entry), tiny);
-    *dy = select(*dy, (float8)(0.0f), tiny);
-    *dz = select(*dz, (float8)(0.0f), tiny);
-    *d2 = select(*d2, (float8)(PF_D_MIN * PF_D_MIN), tiny);
-  }
+  if (pf_any8(tiny)) pf_apart8(dx, dy, dz, d2, tiny, jj > i_entry, (float8)(PF_D_MIN));
   /* 1/d^2 by a division, beside (not after) the square root: a shorter chain */
   *inv_d = pf_rsqrt8(*d2);
   const float8 inv_d2 = 1.0f / *d2;
@@ -89,7 +78,7 @@ void pf_dashpots8(float8 dx, float8 dy, float8 dz, float8 inv_d, float8 uix, flo
                   float8 ujx, float8 ujy, float8 ujz, float8 imj, int8 contact, float8* gx, float8* gy, float8* gz) {
   const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
   const float8 un = (uix - ujx) * nx + (uiy - ujy) * ny + (uiz - ujz) * nz;
-  const float8 cf = select((float8)(0.0f), -PF_DASHPOT * pf_rsqrt8(imi + imj) * un, contact);
+  const float8 cf = select((float8)(0.0f), pf_contact_damping8(un, imi, imj, (float8)(PF_DASHPOT)), contact);
   *gx += cf * nx;
   *gy += cf * ny;
   *gz += cf * nz;

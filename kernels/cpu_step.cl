@@ -14,6 +14,10 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
   return pf_norm2_8(x - a, y - b, z - c) > limit2;
 }
 
+/* physics.cl's rules at 8 lanes. */
+PF_DEFINE_KICK_DRIFT(pf_kick_drift8, float8)
+PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change8, float8)
+
 /* Eight lanes' new state: position p, velocity u, wall clearance, and
  * which lanes the wall found outside. */
 typedef struct {
@@ -59,8 +63,7 @@ pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sd
     const float8 safe_gl = select((float8)(1.0f), gl, turn);
     const float8 nx = g[0] / safe_gl, ny = g[1] / safe_gl, nz = g[2] / safe_gl;
     const float8 un = s.ux * nx + s.uy * ny + s.uz * nz;
-    /* physics.cl pf_wall_velocity_change, 8 lanes */
-    const float8 dv = select((float8)(0.0f), -(1.0f + PF_WALL_RESTITUTION) * un, turn & (un > 0.0f));
+    const float8 dv = select((float8)(0.0f), pf_wall_velocity_change8(un, (float8)(PF_WALL_RESTITUTION)), turn);
     s.ux += dv * nx;
     s.uy += dv * ny;
     s.uz += dv * nz;
@@ -116,20 +119,17 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
     for (uint l = 0; l < 8u; ++l) Fg[l] = (float4)(0.0f);
   }
   uint8 bits = rebuild ? vload8(0, build_bits + i0) : (uint8)(0u);
-  const float8 k = PF_DT * im;
+  float8 ux = vx, uy = vy, uz = vz, px = x, py = y, pz = z;
+  const float8 speed =
+      pf_kick_drift8(&ux, &uy, &uz, &px, &py, &pz, fx, fy, fz, im, (float8)(PF_DT), (float8)(PF_DAMP), (float8)(PF_VMAX));
   pf_lanes8 s;
-  s.ux = fma(k, fx, vx) * PF_DAMP;
-  s.uy = fma(k, fy, vy) * PF_DAMP;
-  s.uz = fma(k, fz, vz) * PF_DAMP;
-  const float8 speed = sqrt(pf_norm2_8(s.ux, s.uy, s.uz));
-  const int8 fast = speed > PF_VMAX; /* displacement cap: at most PF_VMAX dt a step */
-  const float8 scale = select((float8)(1.0f), PF_VMAX / speed, fast);
-  s.ux *= scale;
-  s.uy *= scale;
-  s.uz *= scale;
-  s.px = fma(PF_DT, s.ux, x);
-  s.py = fma(PF_DT, s.uy, y);
-  s.pz = fma(PF_DT, s.uz, z);
+  s.ux = ux;
+  s.uy = uy;
+  s.uz = uz;
+  s.px = px;
+  s.py = py;
+  s.pz = pz;
+  const int8 fast = speed > PF_VMAX; /* capped: at most PF_VMAX dt a step */
   if (sdf_dims.w != 0) {
     const float8 old_clearance = vload8(0, C + i0);
     s.clearance = fma(-2.0f * PF_DT, select(speed, (float8)(PF_VMAX), fast), old_clearance);

@@ -14,14 +14,12 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
                     __global uint* flags, __global float* C, __global const float4* XREF, __global uint* request,
                     uint request_raise, uint n) {
   const float ri = xi.w, inv_mi = vi.w;
-  const float k = PF_DT * inv_mi;
-  float4 u = (float4)(fma(k, force.x, vi.x), fma(k, force.y, vi.y), fma(k, force.z, vi.z), 0.0f) * PF_DAMP;
-  /* sqrt(pf_norm2()), not length(): PoCL's length() guards against
-   * overflow with branches these magnitudes never need */
-  const float speed = sqrt(pf_norm2(u));
-  if (speed > PF_VMAX) u *= PF_VMAX / speed; /* displacement cap: at most PF_VMAX dt a step */
+  float ux = vi.x, uy = vi.y, uz = vi.z, px = xi.x, py = xi.y, pz = xi.z;
+  const float speed =
+      pf_kick_drift(&ux, &uy, &uz, &px, &py, &pz, force.x, force.y, force.z, inv_mi, PF_DT, PF_DAMP, PF_VMAX);
+  float4 u = (float4)(ux, uy, uz, 0.0f);
+  float4 xn = (float4)(px, py, pz, ri);
   const float capped_speed = speed > PF_VMAX ? PF_VMAX : speed; /* |u| now */
-  float4 xn = (float4)(fma(PF_DT, u.x, xi.x), fma(PF_DT, u.y, xi.y), fma(PF_DT, u.z, xi.z), ri);
   if (sdf_dims.w != 0) {
     float clearance = fma(-2.0f * PF_DT, capped_speed, C[i]);
     if (clearance <= 0.0f) {
@@ -140,9 +138,10 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
         float d2 = dot(d, d);
         const float touch2 = fmax(rs * rs, PF_CONTACT2);
         if (j == i || !(d2 < fmax(touch2, PF_RC2))) continue;
-        if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other: a fixed, antisymmetric direction */
-          d = (float4)(j > i ? -PF_D_MIN : PF_D_MIN, 0.0f, 0.0f, 0.0f);
-          d2 = PF_D_MIN * PF_D_MIN;
+        if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other (physics.cl pf_apart) */
+          float dx = d.x, dy = d.y, dz = d.z;
+          pf_apart(&dx, &dy, &dz, &d2, 1, j > i, PF_D_MIN);
+          d = (float4)(dx, dy, dz, 0.0f);
         }
         float4 f = pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, PF_RC2,
                                      PF_FORCE_CAP) * d;
