@@ -5,20 +5,18 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <utility>
 #include <sstream>
 #include <vector>
 
 #include "pfill/device/device.hpp"
 #include "pfill/device/program.hpp"
+#include "engine/step_history.hpp"
 #include "pfill/error.hpp"
 
 namespace pfill {
 
 namespace {
-
-constexpr size_t kRecord = 8;           // floats per history / partial record (common.cl pf_record)
 
 std::string flt(double v) {
   std::ostringstream s;
@@ -43,12 +41,6 @@ cl_int4 i4(int x, int y, int z, int w) {
   v.s[2] = z;
   v.s[3] = w;
   return v;
-}
-
-uint32_t as_uint(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
 }
 
 // The kernel files of a step form, in build order (kernels/common.cl
@@ -96,7 +88,7 @@ struct Engine::Impl {
   // work-item (EngineParams::force_buffers; set by reserve()); else 1 (0 on GPUs).
   size_t force_groups = 0;
   Program program;
-  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours, k_pairs;
+  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_neighbours, k_pairs;
 
   size_t n = 0, capacity = 0;
   std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
@@ -130,14 +122,9 @@ struct Engine::Impl {
   cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
   cl_float4 sdf_origin{};
   cl_int4 sdf_dims{};
-  // Per-step scalars in flight (see kernels/cells.cl): level-1
-  // partials of the last step, level-2 partials of the one before.
-  cl::Buffer level1[2], level2[2], history;
-  size_t level1_pending = 0;  // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
-  size_t level2_pending = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
-  uint64_t steps = 0, history_read = 0;
-  std::vector<StepRecord> backlog;
-  std::vector<float> history_host;  // read-back staging, kept to avoid an allocation per read
+  // The per-step records: the device's ring, the sums in flight, the read-back.
+  std::unique_ptr<StepHistory> records;
+  uint64_t steps = 0;
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
@@ -149,7 +136,7 @@ struct Engine::Impl {
                                                                      : p.inner_lists == InnerLists::on)),
         program(d, kernel_files(gpu_form), defines()) {
     k_step = program.kernel("advance", group_size);
-    k_finalize = program.kernel("finalize_history", group_size);
+    Kernel k_finalize = program.kernel("finalize_history", group_size);
     for (const Kernel* k : {&k_step, &k_finalize})
       if (k->work_group() != group_size)
         throw Error("engine: device '" + device.info().name + "' runs " + k->name() + " with at most " +
@@ -162,7 +149,8 @@ struct Engine::Impl {
     k_remove_linked = program.kernel("remove_linked", params.work_group);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     if (!gpu_form) k_pairs = program.kernel("pair_forces", 1);
-    history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
+    records = std::make_unique<StepHistory>(device, params.history_capacity, group_size, k_finalize,
+                                            [this](Kernel& k, size_t items) { run(k, items); });
     touched_upto = device.make_buffer(2 * sizeof(cl_uint), "cells to empty");
     rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
     check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
@@ -292,8 +280,8 @@ struct Engine::Impl {
 
   // New buffers may reuse a freed buffer's handle: set every argument again.
   void forget_kernel_args() {
-    for (Kernel* k : {&k_step, &k_insert, &k_birth, &k_move, &k_birth_linked, &k_remove_linked, &k_finalize,
-                      &k_neighbours, &k_pairs})
+    for (Kernel* k : {&k_step, &k_insert, &k_birth, &k_move, &k_birth_linked, &k_remove_linked, &k_neighbours,
+                      &k_pairs})
       k->forget_args();
   }
 
@@ -306,7 +294,7 @@ struct Engine::Impl {
     // which the AVX-512 gathers take as signed 32-bit.
     if (!gpu_form && cap > (size_t(1) << 27))
       throw Error("engine: " + std::to_string(want) + " particles are more than the CPU form holds (2^27); use a larger radius");
-    reduce_pending();  // the record buffers are reallocated below
+    records->finish_pending(steps);  // the record buffers are reallocated below
     cl::Buffer nx[2], nv[2];
     for (int h = 0; h < (gpu_form ? 2 : 1); ++h) {
       nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
@@ -377,9 +365,7 @@ struct Engine::Impl {
     if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
     lists_valid = false;
     forget_kernel_args();
-    const size_t g1 = level1_count(cap) + 1, g2 = groups_for(g1) + 1;
-    for (auto& b : level1) b = device.make_buffer(g1 * kRecord * sizeof(float), "step partials (level 1)");
-    for (auto& b : level2) b = device.make_buffer(g2 * kRecord * sizeof(float), "step partials (level 2)");
+    records->reserve(level1_count(cap), steps);
   }
 
   // The neighbour grid over `box`: cells of edge exactly cell_size (the
@@ -446,23 +432,11 @@ struct Engine::Impl {
     run(k_insert, gpu_form ? n : std::min(n, std::max<size_t>(1, device.info().compute_units) * params.work_group));
   }
 
-  // Finishes the reductions of the steps in flight (one work-group).
-  void reduce_pending() {
-    if (level1_pending == 0 && level2_pending == 0) return;
-    const size_t h = params.history_capacity;
-    const int last = static_cast<int>((steps + 1) % 2), other = 1 - last;  // last = (steps - 1) % 2
-    k_finalize.set_args(level1[last], cl_uint(level1_pending), level2[other], level2[last], cl_uint(level2_pending),
-                        history, cl_uint((steps + h - 1) % h), cl_uint((steps + h - 2) % h));
-    run(k_finalize, group_size);
-    level1_pending = 0;
-    level2_pending = 0;
-  }
-
   // One step: the cells (only when lists will be rebuilt), on CPU devices
   // the pair forces, then the update.
   void step() {
     require_domain();
-    if (steps - history_read >= params.history_capacity) drain_history();
+    if (records->full(steps)) records->drain(steps);
     // GPUs: ping-pong (advance reads other particles' X and V); CPU devices
     // update in place (advance reads only its own particle's), which spares
     // the cache the second copy and the writes their line reads.
@@ -476,22 +450,20 @@ struct Engine::Impl {
                        prune_origins, list_spans, force_spans);
       run(k_pairs, pair_items());
     }
-    const size_t h = params.history_capacity;
-    const int now = static_cast<int>(steps % 2), last = 1 - now;
-    const size_t level2_now = groups_for(level1_pending);  // the last step's level-2 partials, made now
+    StepHistory& r = *records;
     // (the two forms' `advance` take different arguments: gpu_step.cl, cpu_step.cl)
     auto set_step_args = [&](const auto& field) {
       if (gpu_form)
         k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
-                        cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
-                        level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
-                        history, cl_uint((steps + h - 2) % h), lists, list_counts, list_origins, rebuild_requests,
+                        cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), r.level1_out(steps),
+                        r.level1_prev(steps), r.level1_pending(), r.level2_out(steps), r.level2_prev(steps),
+                        r.level2_pending(), r.ring(), r.slot_two_back(steps), lists, list_counts, list_origins, rebuild_requests,
                         request_read(), request_raise(), request_clear(),
                         cl_uint(force ? 1 : 0));
       else
-        k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
-                        level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
-                        history, cl_uint((steps + h - 2) % h), list_origins, prune_origins, rebuild_requests,
+        k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), r.level1_out(steps),
+                        r.level1_prev(steps), r.level1_pending(), r.level2_out(steps), r.level2_prev(steps),
+                        r.level2_pending(), r.ring(), r.slot_two_back(steps), list_origins, prune_origins, rebuild_requests,
                         request_read(), request_raise(), request_clear(),
                         cl_uint(force ? 1 : 0), forces, cl_uint(force_groups), cl_uint(capacity), force_spans,
                         build_bits);
@@ -502,47 +474,12 @@ struct Engine::Impl {
       set_step_args(sdf);
     // an item a particle (GPU form) or an octet (CPU form: level1_count),
     // and a group for each level-2 partial
-    run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), level2_now * group_size, 1}));
+    run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), r.level2_now() * group_size, 1}));
     newcomers.clear();
-    level2_pending = level2_now;
-    level1_pending = level1_count(n);
+    r.stepped(level1_count(n));
     lists_valid = true;
     cur = nxt;
     ++steps;
-  }
-
-  // Moves every unread record to the backlog (blocking).
-  void drain_history() {
-    reduce_pending();
-    const size_t count = steps - history_read, cap = params.history_capacity;
-    if (count == 0) return;
-    // Read only the unread slots: one piece, or two when they wrap around.
-    std::vector<float>& raw = history_host;
-    raw.resize(cap * kRecord);
-    const size_t first = history_read % cap, wrapped = std::min(count, cap - first);
-    check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, first * kRecord * sizeof(float),
-                                              wrapped * kRecord * sizeof(float), &raw[first * kRecord]),
-             "clEnqueueReadBuffer", "history");
-    if (count > wrapped)
-      check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, 0, (count - wrapped) * kRecord * sizeof(float),
-                                                raw.data()),
-               "clEnqueueReadBuffer", "history");
-    device.finish();
-    for (uint64_t s = history_read; s < steps; ++s) {
-      const float* r = &raw[(s % cap) * kRecord];
-      StepRecord rec;
-      rec.step = s;
-      rec.kinetic_energy = r[0];
-      rec.max_speed = std::sqrt(r[1]);  // the kernels keep squares (common.cl pf_record)
-      rec.max_displacement = std::sqrt(r[2]);
-      rec.lists_rebuilt = r[3] > 0.5f;
-      rec.colliding_pairs = as_uint(r[4]);
-      rec.flagged = as_uint(r[5]);
-      rec.cell_overflow = as_uint(r[6]);
-      rec.particles = as_uint(r[7]);
-      backlog.push_back(rec);
-    }
-    history_read = steps;
   }
 };
 
@@ -675,8 +612,8 @@ void Engine::run_steps(size_t k) {
 }
 
 std::vector<StepRecord> Engine::read_history() {
-  impl_->drain_history();
-  return std::exchange(impl_->backlog, {});
+  impl_->records->drain(impl_->steps);
+  return impl_->records->take();
 }
 
 std::vector<Particle> Engine::read_particles() {
@@ -717,7 +654,7 @@ uint64_t spread_bits(uint64_t v) {
 std::vector<size_t> Engine::sort_by_cells() {
   Impl& m = *impl_;
   m.require_domain();
-  m.reduce_pending();
+  m.records->finish_pending(m.steps);
   const size_t n = m.n;
   std::vector<cl_float4> xs(n), vs(n);
   std::vector<cl_uint> flags(n);
