@@ -11,6 +11,7 @@
 
 #include "pfill/device/device.hpp"
 #include "pfill/device/program.hpp"
+#include "engine/neighbour_lists.hpp"
 #include "engine/step_history.hpp"
 #include "pfill/error.hpp"
 
@@ -89,19 +90,12 @@ struct Engine::Impl {
   size_t force_groups = 0;
   Program program;
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_neighbours, k_pairs;
+  NeighbourLists nl;  // the lists, their request words, the births linked in
 
   size_t n = 0, capacity = 0;
   std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
   int cur = 0;  // which half of X and V holds the current state
   cl::Buffer X[2], V[2], flags, clearance;
-  // Neighbour lists (see kernels/cells.cl).
-  cl::Buffer lists, list_counts, list_origins, rebuild_requests;
-  cl::Buffer list_spans;  // CPU form with Newton: each packed row's first word and room (cpu_lists.cl PF_LIST_ROW)
-  // CPU form with EngineParams::inner_lists: the inner lists (rows as the
-  // lists'), their counts, and where each particle was when they were pruned.
-  cl::Buffer inner_lists, inner_counts, prune_origins;
-  bool lists_valid = false;  // false: the next step rebuilds every list
-  std::vector<int> newcomers;  // linked births since the last step: their rows get sorted (at most 4)
   // CPU form: force_groups buffers of `capacity` forces (zero between
   // steps), and the list build's overflow bits for `advance`.
   cl::Buffer forces, build_bits;
@@ -134,7 +128,8 @@ struct Engine::Impl {
         pair_queue(!gpu_form && (p.pair_queue == PairQueue::automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on)),
         inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < params.skin_sigma
                                                                      : p.inner_lists == InnerLists::on)),
-        program(d, kernel_files(gpu_form), defines()) {
+        program(d, kernel_files(gpu_form), defines()),
+        nl(d, ListLayout{constants.list_capacity, newton, inner}) {
     k_step = program.kernel("advance", group_size);
     Kernel k_finalize = program.kernel("finalize_history", group_size);
     for (const Kernel* k : {&k_step, &k_finalize})
@@ -152,9 +147,6 @@ struct Engine::Impl {
     records = std::make_unique<StepHistory>(device, params.history_capacity, group_size, k_finalize,
                                             [this](Kernel& k, size_t items) { run(k, items); });
     touched_upto = device.make_buffer(2 * sizeof(cl_uint), "cells to empty");
-    rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
-    check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "list rebuild requests");
     sdf = device.make_buffer(sizeof(float), "sdf (none)");
     sdf_dims = i4(2, 2, 2, 0);
     if (params.field_image) {
@@ -264,12 +256,6 @@ struct Engine::Impl {
   // pair_forces work-items: with Newton one per force buffer, else one per 64 particles.
   size_t pair_items() const { return newton ? force_groups : std::max<size_t>(1, (n + 63) / 64); }
 
-  cl_int4 sort_rows() const {
-    int r[4] = {-1, -1, -1, -1};
-    for (size_t k = 0; k < newcomers.size() && k < 4; ++k) r[k] = newcomers[k];
-    return i4(r[0], r[1], r[2], r[3]);
-  }
-
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
   // Level-1 partials of a step of n particles: one a work-group (GPU
   // form), or one an octet of particles, the last maybe partial (cpu_step.cl
@@ -322,36 +308,7 @@ struct Engine::Impl {
     clearance = nc;
     capacity = cap;
     force_groups = pair_force_groups(cap);
-    // With Newton the CPU form packs a block's rows into its PF_ROW_STRIDE
-    // (capacity + 8) words a particle; blocks may reach force_groups
-    // particles past the capacity; 8 more words for the pair loop's eights
-    // past the last row.
-    const size_t list_words = newton ? (cap + force_groups) * (constants.list_capacity + 8) + 8
-                                     : cap * constants.list_capacity;
-    lists = device.make_buffer(list_words * sizeof(cl_uint), "neighbour lists");
-    // Zeroed: the CPU pair loop reads a row's entries in eights, past its
-    // count too (then masks them), so every entry must be an index below
-    // the capacity (the build pads with the row's own particle).
-    check_cl(device.queue().enqueueFillBuffer(lists, cl_uint(0), 0, list_words * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "neighbour lists");
-    list_spans = device.make_buffer((newton ? cap : 1) * sizeof(cl_uint2), "neighbour list rows");
-    check_cl(device.queue().enqueueFillBuffer(list_spans, cl_uint(0), 0, (newton ? cap : 1) * sizeof(cl_uint2)),
-             "clEnqueueFillBuffer", "neighbour list rows");
-    list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
-    // Counts past the last particle stay 0: a linked birth counts up from there.
-    check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "neighbour list counts");
-    list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
-    const size_t inner_cap = inner ? cap : 1;  // (a word each when unused)
-    // Packed rows (see pair_forces): 8 entries of slack for the pair loop's eights past the last row's end.
-    const size_t inner_words = inner_cap * constants.list_capacity + 8;
-    inner_lists = device.make_buffer(inner_words * sizeof(cl_uint), "inner neighbour lists");
-    check_cl(device.queue().enqueueFillBuffer(inner_lists, cl_uint(0), 0, inner_words * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "inner neighbour lists");  // zeroed, as the lists are
-    // Read only after a pruning wrote them: the first step after this prunes,
-    // as does the step after any linked birth or removal.
-    inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint2), "inner neighbour list counts");
-    prune_origins = device.make_buffer(inner_cap * sizeof(cl_float4), "inner neighbour list origins");
+    nl.reserve(cap, force_groups);
     const size_t force_count = std::max<size_t>(force_groups * cap, 1);
     forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
     check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
@@ -363,7 +320,6 @@ struct Engine::Impl {
              "pair force spans");
     touched = device.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
     if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
-    lists_valid = false;
     forget_kernel_args();
     records->reserve(level1_count(cap), steps);
   }
@@ -393,7 +349,7 @@ struct Engine::Impl {
              "cell slots");
     clear_cells();
     have_domain = true;
-    lists_valid = false;
+    nl.valid = false;
     forget_kernel_args();
   }
 
@@ -404,13 +360,6 @@ struct Engine::Impl {
     check_cl(device.queue().enqueueFillBuffer(touched_upto, cl_uint(0), 0, 2 * sizeof(cl_uint)),
              "clEnqueueFillBuffer", "cells to empty");
   }
-
-  // The list request words (rebuild_requests) rotate over three: the next
-  // step reads the one the last step raised (births and removals raise it
-  // too), raises the next, and clears the third for the step after.
-  cl_uint request_read() const { return static_cast<cl_uint>((steps + 2) % 3); }
-  cl_uint request_raise() const { return static_cast<cl_uint>(steps % 3); }
-  cl_uint request_clear() const { return static_cast<cl_uint>((steps + 1) % 3); }
 
   // This step's set of cell counts: its first word.
   cl_uint cell_base() const { return static_cast<cl_uint>((steps % 2) * cell_total); }
@@ -425,7 +374,7 @@ struct Engine::Impl {
   void insert_cells(bool force) {
     k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), touched, touched_upto,
                       cl_uint(capacity), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                      rebuild_requests, request_read(), cl_uint(force ? 1 : 0));
+                      nl.requests, NeighbourLists::read_slot(steps), cl_uint(force ? 1 : 0));
     // GPUs: an item a particle; CPU devices: a group a core, each item
     // looping (a launch of n items costs PoCL ~0.2 us a group even on the
     // steps that return at once).
@@ -441,13 +390,13 @@ struct Engine::Impl {
     // update in place (advance reads only its own particle's), which spares
     // the cache the second copy and the writes their line reads.
     const int nxt = gpu_form ? 1 - cur : cur;
-    const bool force = !lists_valid;
+    const bool force = !nl.valid;
     insert_cells(force);
     if (!gpu_form) {
       k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                       lists, list_counts, list_origins, build_bits, rebuild_requests, request_read(),
-                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows(), inner_lists, inner_counts,
-                       prune_origins, list_spans, force_spans);
+                       nl.rows, nl.counts, nl.origins, build_bits, nl.requests, NeighbourLists::read_slot(steps),
+                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), nl.sort_rows(), nl.inner_rows, nl.inner_counts,
+                       nl.prune_origins, nl.spans, force_spans);
       run(k_pairs, pair_items());
     }
     StepHistory& r = *records;
@@ -457,14 +406,16 @@ struct Engine::Impl {
         k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
                         cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), r.level1_out(steps),
                         r.level1_prev(steps), r.level1_pending(), r.level2_out(steps), r.level2_prev(steps),
-                        r.level2_pending(), r.ring(), r.slot_two_back(steps), lists, list_counts, list_origins, rebuild_requests,
-                        request_read(), request_raise(), request_clear(),
+                        r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.rows, nl.counts, nl.origins, nl.requests,
+                        NeighbourLists::read_slot(steps), NeighbourLists::raise_slot(steps),
+                        NeighbourLists::clear_slot(steps),
                         cl_uint(force ? 1 : 0));
       else
         k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), r.level1_out(steps),
                         r.level1_prev(steps), r.level1_pending(), r.level2_out(steps), r.level2_prev(steps),
-                        r.level2_pending(), r.ring(), r.slot_two_back(steps), list_origins, prune_origins, rebuild_requests,
-                        request_read(), request_raise(), request_clear(),
+                        r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.origins, nl.prune_origins, nl.requests,
+                        NeighbourLists::read_slot(steps), NeighbourLists::raise_slot(steps),
+                        NeighbourLists::clear_slot(steps),
                         cl_uint(force ? 1 : 0), forces, cl_uint(force_groups), cl_uint(capacity), force_spans,
                         build_bits);
     };
@@ -475,9 +426,9 @@ struct Engine::Impl {
     // an item a particle (GPU form) or an octet (CPU form: level1_count),
     // and a group for each level-2 partial
     run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), r.level2_now() * group_size, 1}));
-    newcomers.clear();
+    nl.newcomers.clear();
     r.stepped(level1_count(n));
-    lists_valid = true;
+    nl.valid = true;
     cur = nxt;
     ++steps;
   }
@@ -531,16 +482,16 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   }
   m.reserve(first + particles.size());
   for (const Particle& p : particles) m.ids.push_back(p.id);
-  if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
-    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts, m.list_spans,
-                              m.list_origins, m.rebuild_requests, m.request_read(), cl_uint(first), xs[0],
+  if (particles.size() == 1 && m.nl.valid && m.nl.newcomers.size() < 4) {  // link it into the lists in place
+    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.nl.rows, m.nl.counts, m.nl.spans,
+                              m.nl.origins, m.nl.requests, NeighbourLists::read_slot(m.steps), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
-    m.newcomers.push_back(static_cast<int>(first));
+    m.nl.newcomers.push_back(static_cast<int>(first));
     m.n += 1;
     return first;
   }
-  m.lists_valid = false;  // the next step lists the newcomers
+  m.nl.valid = false;  // the next step lists the newcomers
   if (particles.size() == 1) {
     m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(first), xs[0], vs[0]);
     m.run(m.k_birth, 1);
@@ -570,15 +521,15 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       throw Error("engine: cannot remove particle " + std::to_string(idx) + " of " + std::to_string(m.n));
   for (size_t idx : indices) {
     const size_t last = m.n - 1;
-    if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
-      m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
-                                 m.list_spans, m.list_origins, cl_uint(m.n), cl_uint(idx), m.rebuild_requests,
-                                 m.request_read());
+    if (m.nl.valid) {  // keep the lists: drop `idx`, rename `last`
+      m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.nl.rows, m.nl.counts,
+                                 m.nl.spans, m.nl.origins, cl_uint(m.n), cl_uint(idx), m.nl.requests,
+                                 NeighbourLists::read_slot(m.steps));
       m.run(m.k_remove_linked, m.n);
       // A newcomer's unsorted row moves with it from `last` to `idx`.
-      for (int& k : m.newcomers)
+      for (int& k : m.nl.newcomers)
         if (k == static_cast<int>(idx)) k = -1;
-      for (int& k : m.newcomers)
+      for (int& k : m.nl.newcomers)
         if (k == static_cast<int>(last)) k = static_cast<int>(idx);
     } else if (idx != last) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
@@ -587,8 +538,7 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     m.ids[idx] = m.ids[last];  // the ids follow the swap with the last
     m.ids.pop_back();
     // Counts past the last particle stay 0 (a linked birth counts up from there).
-    check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "neighbour list count");
+    m.nl.clear_count(last);
     m.n -= 1;
   }
 }
@@ -703,8 +653,8 @@ std::vector<size_t> Engine::sort_by_cells() {
              "clearance");
   }
   m.ids = std::move(ids2);
-  m.lists_valid = false;  // the next step rebuilds every list
-  m.newcomers.clear();
+  m.nl.valid = false;  // the next step rebuilds every list
+  m.nl.newcomers.clear();
   return order;
 }
 
