@@ -11,6 +11,7 @@
 
 #include "pfill/device/device.hpp"
 #include "pfill/device/program.hpp"
+#include "engine/cell_grid.hpp"
 #include "engine/neighbour_lists.hpp"
 #include "engine/step_history.hpp"
 #include "pfill/error.hpp"
@@ -91,6 +92,7 @@ struct Engine::Impl {
   Program program;
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_neighbours, k_pairs;
   NeighbourLists nl;  // the lists, their request words, the births linked in
+  CellGrid cells;     // the grid the lists are built from (filled only on the steps that rebuild them)
 
   size_t n = 0, capacity = 0;
   std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
@@ -102,15 +104,6 @@ struct Engine::Impl {
   // CPU form with Newton: per force buffer, the particles [first, end)
   // whose forces pair_forces may have changed there (`advance` reads those)
   cl::Buffer force_spans;
-  // Cells (filled only on steps that rebuild the lists): count words and slots.
-  cl_float4 cell_origin{}, cell_inv{};
-  cl_int4 cell_dims{};
-  size_t cell_total = 0;
-  bool have_domain = false;
-  // Two sets of cell_total count words, used by the step's parity, and
-  // by parity the cells each particle was first into and how many
-  // particles were listed: the next step empties them (insert_cells).
-  cl::Buffer counts, slots, touched, touched_upto;
   // Field.
   cl::Buffer sdf;
   cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
@@ -129,7 +122,8 @@ struct Engine::Impl {
         inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < params.skin_sigma
                                                                      : p.inner_lists == InnerLists::on)),
         program(d, kernel_files(gpu_form), defines()),
-        nl(d, ListLayout{constants.list_capacity, newton, inner}) {
+        nl(d, ListLayout{constants.list_capacity, newton, inner}),
+        cells(d, constants.cell_size, constants.cell_capacity) {
     k_step = program.kernel("advance", group_size);
     Kernel k_finalize = program.kernel("finalize_history", group_size);
     for (const Kernel* k : {&k_step, &k_finalize})
@@ -146,7 +140,6 @@ struct Engine::Impl {
     if (!gpu_form) k_pairs = program.kernel("pair_forces", 1);
     records = std::make_unique<StepHistory>(device, params.history_capacity, group_size, k_finalize,
                                             [this](Kernel& k, size_t items) { run(k, items); });
-    touched_upto = device.make_buffer(2 * sizeof(cl_uint), "cells to empty");
     sdf = device.make_buffer(sizeof(float), "sdf (none)");
     sdf_dims = i4(2, 2, 2, 0);
     if (params.field_image) {
@@ -318,62 +311,23 @@ struct Engine::Impl {
     force_spans = device.make_buffer(span_bytes, "pair force spans");
     check_cl(device.queue().enqueueFillBuffer(force_spans, cl_uint(0), 0, span_bytes), "clEnqueueFillBuffer",
              "pair force spans");
-    touched = device.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
-    if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
+    cells.reserve(cap);
     forget_kernel_args();
     records->reserve(level1_count(cap), steps);
   }
 
-  // The neighbour grid over `box`: cells of edge exactly cell_size (the
-  // grid may reach a little past the box; particles outside clamp in).
+  // The neighbour grid over `box` (the lists are then rebuilt).
   void set_domain(const Box3& box) {
-    const double cs = constants.cell_size;
-    int dims[3];
-    double total = 1;
-    for (int a = 0; a < 3; ++a) {
-      dims[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
-      total *= dims[a];
-    }
-    if (total * constants.cell_capacity * 5 > 1.5e9)
-      throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
-                  " cells; use a larger radius or a smaller domain");
-    cell_origin = f4(box.lo.x, box.lo.y, box.lo.z, 0);
-    cell_inv = f4(1 / cs, 1 / cs, 1 / cs, 0);
-    cell_dims = i4(dims[0], dims[1], dims[2], 0);
-    cell_total = static_cast<size_t>(total);
-    counts = device.make_buffer(2 * cell_total * sizeof(cl_uint), "cell counts");
-    const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
-    slots = device.make_buffer(slot_bytes, "cell slots");
-    // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
-    check_cl(device.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
-             "cell slots");
-    clear_cells();
-    have_domain = true;
+    cells.set_domain(box);
     nl.valid = false;
     forget_kernel_args();
-  }
-
-  // Both sets of cell counts empty, and nothing left for a step to empty.
-  void clear_cells() {
-    check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, 2 * cell_total * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "cell counts");
-    check_cl(device.queue().enqueueFillBuffer(touched_upto, cl_uint(0), 0, 2 * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "cells to empty");
-  }
-
-  // This step's set of cell counts: its first word.
-  cl_uint cell_base() const { return static_cast<cl_uint>((steps % 2) * cell_total); }
-
-  void require_domain() const {
-    if (!have_domain)
-      throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
   }
 
   // Lists X[cur] in this step's cells when `force` or when the list
   // rebuild request of the last step is raised (decided on the device).
   void insert_cells(bool force) {
-    k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), touched, touched_upto,
-                      cl_uint(capacity), cell_origin, cell_inv, cell_dims, cl_uint(n),
+    k_insert.set_args(X[cur], cells.counts, cells.slots, cells.base(steps), cells.total(), cells.touched,
+                      cells.touched_upto, cl_uint(capacity), cells.origin, cells.inv, cells.dims, cl_uint(n),
                       nl.requests, NeighbourLists::read_slot(steps), cl_uint(force ? 1 : 0));
     // GPUs: an item a particle; CPU devices: a group a core, each item
     // looping (a launch of n items costs PoCL ~0.2 us a group even on the
@@ -384,7 +338,7 @@ struct Engine::Impl {
   // One step: the cells (only when lists will be rebuilt), on CPU devices
   // the pair forces, then the update.
   void step() {
-    require_domain();
+    cells.require_domain();
     if (records->full(steps)) records->drain(steps);
     // GPUs: ping-pong (advance reads other particles' X and V); CPU devices
     // update in place (advance reads only its own particle's), which spares
@@ -393,31 +347,30 @@ struct Engine::Impl {
     const bool force = !nl.valid;
     insert_cells(force);
     if (!gpu_form) {
-      k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                       nl.rows, nl.counts, nl.origins, build_bits, nl.requests, NeighbourLists::read_slot(steps),
-                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), nl.sort_rows(), nl.inner_rows, nl.inner_counts,
-                       nl.prune_origins, nl.spans, force_spans);
+      k_pairs.set_args(X[cur], V[cur], cells.counts, cells.slots, cells.base(steps), cells.origin, cells.inv,
+                       cells.dims, cl_uint(n), nl.rows, nl.counts, nl.origins, build_bits, nl.requests,
+                       NeighbourLists::read_slot(steps), cl_uint(force ? 1 : 0), forces, cl_uint(capacity),
+                       nl.sort_rows(), nl.inner_rows, nl.inner_counts, nl.prune_origins, nl.spans, force_spans);
       run(k_pairs, pair_items());
     }
     StepHistory& r = *records;
     // (the two forms' `advance` take different arguments: gpu_step.cl, cpu_step.cl)
     auto set_step_args = [&](const auto& field) {
       if (gpu_form)
-        k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
-                        cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), r.level1_out(steps),
-                        r.level1_prev(steps), r.level1_pending(), r.level2_out(steps), r.level2_prev(steps),
-                        r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.rows, nl.counts, nl.origins, nl.requests,
+        k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], cells.counts, cells.slots, cells.base(steps),
+                        cells.origin, cells.inv, cells.dims, field, sdf_origin, sdf_dims, flags, clearance,
+                        cl_uint(n), r.level1_out(steps), r.level1_prev(steps), r.level1_pending(),
+                        r.level2_out(steps), r.level2_prev(steps), r.level2_pending(), r.ring(),
+                        r.slot_two_back(steps), nl.rows, nl.counts, nl.origins, nl.requests,
                         NeighbourLists::read_slot(steps), NeighbourLists::raise_slot(steps),
-                        NeighbourLists::clear_slot(steps),
-                        cl_uint(force ? 1 : 0));
+                        NeighbourLists::clear_slot(steps), cl_uint(force ? 1 : 0));
       else
-        k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), r.level1_out(steps),
-                        r.level1_prev(steps), r.level1_pending(), r.level2_out(steps), r.level2_prev(steps),
-                        r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.origins, nl.prune_origins, nl.requests,
-                        NeighbourLists::read_slot(steps), NeighbourLists::raise_slot(steps),
-                        NeighbourLists::clear_slot(steps),
-                        cl_uint(force ? 1 : 0), forces, cl_uint(force_groups), cl_uint(capacity), force_spans,
-                        build_bits);
+        k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n),
+                        r.level1_out(steps), r.level1_prev(steps), r.level1_pending(), r.level2_out(steps),
+                        r.level2_prev(steps), r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.origins,
+                        nl.prune_origins, nl.requests, NeighbourLists::read_slot(steps),
+                        NeighbourLists::raise_slot(steps), NeighbourLists::clear_slot(steps), cl_uint(force ? 1 : 0),
+                        forces, cl_uint(force_groups), cl_uint(capacity), force_spans, build_bits);
     };
     if (params.field_image)
       set_step_args(sdf_image);
@@ -603,7 +556,7 @@ uint64_t spread_bits(uint64_t v) {
 
 std::vector<size_t> Engine::sort_by_cells() {
   Impl& m = *impl_;
-  m.require_domain();
+  m.cells.require_domain();
   m.records->finish_pending(m.steps);
   const size_t n = m.n;
   std::vector<cl_float4> xs(n), vs(n);
@@ -622,8 +575,8 @@ std::vector<size_t> Engine::sort_by_cells() {
   for (size_t i = 0; i < n; ++i) {
     uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
-      const double t = std::floor((xs[i].s[a] - m.cell_origin.s[a]) * m.cell_inv.s[a]);
-      const int c = static_cast<int>(std::clamp(t, 0.0, static_cast<double>(m.cell_dims.s[a] - 1)));
+      const double t = std::floor((xs[i].s[a] - m.cells.origin.s[a]) * m.cells.inv.s[a]);
+      const int c = static_cast<int>(std::clamp(t, 0.0, static_cast<double>(m.cells.dims.s[a] - 1)));
       key |= spread_bits(static_cast<uint64_t>(c)) << a;
     }
     keyed[i] = {key, i};
@@ -680,15 +633,15 @@ void Engine::finish() { impl_->device.finish(); }
 
 std::vector<std::vector<uint32_t>> Engine::neighbour_lists() {
   Impl& m = *impl_;
-  m.require_domain();
+  m.cells.require_domain();
   m.insert_cells(true);
   const cl_uint max_out = 256;
   cl::Buffer counts = m.device.make_buffer(std::max<size_t>(m.n, 1) * sizeof(cl_uint), "neighbour counts");
   cl::Buffer lists = m.device.make_buffer(std::max<size_t>(m.n, 1) * max_out * sizeof(cl_uint), "neighbour lists");
-  m.k_neighbours.set_args(m.X[m.cur], m.counts, m.slots, m.cell_base(), m.cell_origin,
-                          m.cell_inv, m.cell_dims, cl_uint(m.n), counts, lists, max_out);
+  m.k_neighbours.set_args(m.X[m.cur], m.cells.counts, m.cells.slots, m.cells.base(m.steps), m.cells.origin,
+                          m.cells.inv, m.cells.dims, cl_uint(m.n), counts, lists, max_out);
   m.run(m.k_neighbours, m.n);
-  m.clear_cells();  // as the steps expect them: this step's set empty
+  m.cells.clear();  // as the steps expect them: this step's set empty
   std::vector<cl_uint> c(m.n), l(m.n * max_out);
   if (m.n > 0) {
     check_cl(m.device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, c.size() * sizeof(cl_uint), c.data()),
