@@ -12,6 +12,7 @@
 #include "pfill/device/device.hpp"
 #include "pfill/device/program.hpp"
 #include "engine/cell_grid.hpp"
+#include "engine/device_field.hpp"
 #include "engine/neighbour_lists.hpp"
 #include "engine/step_history.hpp"
 #include "pfill/error.hpp"
@@ -33,15 +34,6 @@ cl_float4 f4(double x, double y, double z, double w) {
   v.s[1] = static_cast<float>(y);
   v.s[2] = static_cast<float>(z);
   v.s[3] = static_cast<float>(w);
-  return v;
-}
-
-cl_int4 i4(int x, int y, int z, int w) {
-  cl_int4 v;
-  v.s[0] = x;
-  v.s[1] = y;
-  v.s[2] = z;
-  v.s[3] = w;
   return v;
 }
 
@@ -93,6 +85,7 @@ struct Engine::Impl {
   Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_neighbours, k_pairs;
   NeighbourLists nl;  // the lists, their request words, the births linked in
   CellGrid cells;     // the grid the lists are built from (filled only on the steps that rebuild them)
+  DeviceField wall;   // the distance field the wall kernels sample
 
   size_t n = 0, capacity = 0;
   std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
@@ -105,10 +98,6 @@ struct Engine::Impl {
   // whose forces pair_forces may have changed there (`advance` reads those)
   cl::Buffer force_spans;
   // Field.
-  cl::Buffer sdf;
-  cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
-  cl_float4 sdf_origin{};
-  cl_int4 sdf_dims{};
   // The per-step records: the device's ring, the sums in flight, the read-back.
   std::unique_ptr<StepHistory> records;
   uint64_t steps = 0;
@@ -123,7 +112,8 @@ struct Engine::Impl {
                                                                      : p.inner_lists == InnerLists::on)),
         program(d, kernel_files(gpu_form), defines()),
         nl(d, ListLayout{constants.list_capacity, newton, inner}),
-        cells(d, constants.cell_size, constants.cell_capacity) {
+        cells(d, constants.cell_size, constants.cell_capacity),
+        wall(d, params.field_image) {
     k_step = program.kernel("advance", group_size);
     Kernel k_finalize = program.kernel("finalize_history", group_size);
     for (const Kernel* k : {&k_step, &k_finalize})
@@ -140,41 +130,8 @@ struct Engine::Impl {
     if (!gpu_form) k_pairs = program.kernel("pair_forces", 1);
     records = std::make_unique<StepHistory>(device, params.history_capacity, group_size, k_finalize,
                                             [this](Kernel& k, size_t items) { run(k, items); });
-    sdf = device.make_buffer(sizeof(float), "sdf (none)");
-    sdf_dims = i4(2, 2, 2, 0);
-    if (params.field_image) {
-      const std::vector<float> none(8, 0.0f);
-      sdf_image = make_field_image(2, 2, 2, none.data());
-    }
     reserve(64);
     if (!params.domain.empty()) set_domain(params.domain);
-  }
-
-  // The field as a CL_R / CL_FLOAT 3D image (EngineParams::field_image),
-  // checked against the device's 3D image limits and formats.
-  cl::Image3D make_field_image(int nx, int ny, int nz, const float* values) const {
-    const cl::Device& dev = device.device();
-    const size_t w = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_WIDTH>(), h = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_HEIGHT>(),
-                 d = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_DEPTH>();
-    if (static_cast<size_t>(nx) > w || static_cast<size_t>(ny) > h || static_cast<size_t>(nz) > d)
-      throw Error("engine: the distance field (" + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
-                  std::to_string(nz) + ") exceeds the device's 3D image limit " + std::to_string(w) + "x" +
-                  std::to_string(h) + "x" + std::to_string(d) + "; unset EngineParams::field_image");
-    std::vector<cl::ImageFormat> formats;
-    check_cl(device.context().getSupportedImageFormats(CL_MEM_READ_ONLY, CL_MEM_OBJECT_IMAGE3D, &formats),
-             "clGetSupportedImageFormats", "sdf image");
-    const bool r_float = std::any_of(formats.begin(), formats.end(), [](const cl::ImageFormat& f) {
-      return f.image_channel_order == CL_R && f.image_channel_data_type == CL_FLOAT;
-    });
-    if (!r_float)
-      throw Error("engine: device '" + device.info().name +
-                  "' has no CL_R / CL_FLOAT 3D image format; unset EngineParams::field_image");
-    cl_int err = CL_SUCCESS;
-    cl::Image3D image(device.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cl::ImageFormat(CL_R, CL_FLOAT),
-                      static_cast<size_t>(nx), static_cast<size_t>(ny), static_cast<size_t>(nz), 0, 0,
-                      const_cast<float*>(values), &err);
-    check_cl(err, "clCreateImage", "sdf image");
-    return image;
   }
 
   std::map<std::string, std::string> defines() const {
@@ -358,24 +315,24 @@ struct Engine::Impl {
     auto set_step_args = [&](const auto& field) {
       if (gpu_form)
         k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], cells.counts, cells.slots, cells.base(steps),
-                        cells.origin, cells.inv, cells.dims, field, sdf_origin, sdf_dims, flags, clearance,
+                        cells.origin, cells.inv, cells.dims, field, wall.origin, wall.dims, flags, clearance,
                         cl_uint(n), r.level1_out(steps), r.level1_prev(steps), r.level1_pending(),
                         r.level2_out(steps), r.level2_prev(steps), r.level2_pending(), r.ring(),
                         r.slot_two_back(steps), nl.rows, nl.counts, nl.origins, nl.requests,
                         NeighbourLists::read_slot(steps), NeighbourLists::raise_slot(steps),
                         NeighbourLists::clear_slot(steps), cl_uint(force ? 1 : 0));
       else
-        k_step.set_args(X[cur], V[cur], field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n),
+        k_step.set_args(X[cur], V[cur], field, wall.origin, wall.dims, flags, clearance, cl_uint(n),
                         r.level1_out(steps), r.level1_prev(steps), r.level1_pending(), r.level2_out(steps),
                         r.level2_prev(steps), r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.origins,
                         nl.prune_origins, nl.requests, NeighbourLists::read_slot(steps),
                         NeighbourLists::raise_slot(steps), NeighbourLists::clear_slot(steps), cl_uint(force ? 1 : 0),
                         forces, cl_uint(force_groups), cl_uint(capacity), force_spans, build_bits);
     };
-    if (params.field_image)
-      set_step_args(sdf_image);
+    if (wall.as_image())
+      set_step_args(wall.image());
     else
-      set_step_args(sdf);
+      set_step_args(wall.buffer());
     // an item a particle (GPU form) or an octet (CPU form: level1_count),
     // and a group for each level-2 partial
     run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), r.level2_now() * group_size, 1}));
@@ -397,21 +354,7 @@ uint64_t Engine::steps_done() const { return impl_->steps; }
 
 void Engine::set_field(const ScalarGrid& field) {
   Impl& m = *impl_;
-  if (field.dims[0] < 2 || field.dims[1] < 2 || field.dims[2] < 2)
-    throw Error("engine: the distance field needs at least 2 samples along each axis");
-  if (field.values.size() != static_cast<size_t>(field.dims[0]) * field.dims[1] * field.dims[2])
-    throw Error("engine: the distance field has " + std::to_string(field.values.size()) +
-                " values for its dimensions; rebuild it");
-  if (!(field.spacing > 0)) throw Error("engine: the distance field's spacing must be > 0");
-  if (m.params.field_image) {
-    m.sdf_image = m.make_field_image(field.dims[0], field.dims[1], field.dims[2], field.values.data());
-  } else {
-    m.sdf = m.device.make_buffer(field.bytes(), "sdf");
-    check_cl(m.device.queue().enqueueWriteBuffer(m.sdf, CL_TRUE, 0, field.bytes(), field.values.data()),
-             "clEnqueueWriteBuffer", "sdf");
-  }
-  m.sdf_origin = f4(field.origin.x, field.origin.y, field.origin.z, 1 / field.spacing);
-  m.sdf_dims = i4(field.dims[0], field.dims[1], field.dims[2], 1);
+  m.wall.set(field);
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());
