@@ -8,8 +8,9 @@
 // skin, inner_skin (sigma), inner_lists, pair_queue, newton (on, off);
 // kernels=DIR builds that variant from the kernel files in DIR
 // (PFILL_KERNEL_DIR), e.g. another revision's:
-//   mkdir /tmp/old && git show HEAD:kernels/engine.cl > /tmp/old/engine.cl
-//   (and physics.cl), then bench_variants "kernels=/tmp/old" ""
+//   mkdir /tmp/old && for f in kernels/*.cl; do git show HEAD:$f > /tmp/old/${f#kernels/}; done
+//   then bench_variants "kernels=/tmp/old" "" (a revision with the same
+//   kernel files and arguments as this build's host code)
 // Prints, per variant, the update time of a step (pair_forces + advance,
 // profiled) as its median and fastest tenth over the steps that did not
 // rebuild the lists, its median over those that did (and their number), (whose fastest tenth is the steadiest figure for the

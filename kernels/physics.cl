@@ -1,6 +1,6 @@
 /* physics.cl: the pair potential, the contact response and the boundary
  * field sampling as small stateless functions. Shared word for word by the
- * OpenCL kernels (PF_REAL = float, built before engine.cl) and by the
+ * OpenCL kernels (PF_REAL = float, built before the step files) and by the
  * double-precision C++ reference (src/engine/reference.cpp includes this
  * file with PF_REAL = double), so the oracle tests compare one formula.
  * Compiles on its own as OpenCL C 1.2. */
@@ -14,16 +14,40 @@
 #define PF_GLOBAL __global
 #endif
 
+/* Each rule below is written once, as a definition over the value type T
+ * (and the mask type M that T's comparisons give), and instantiated for
+ * every width it runs at: PF_REAL here (float in the kernels, double in
+ * src/engine/reference.cpp), float8 in the CPU form's kernels (cpu_pairs.cl,
+ * cpu_step.cl, field.cl). Lanes are independent: a rule's operations, and
+ * so its rounding, are the same at every width. `select(a, b, c)` is
+ * OpenCL's (b where c); the reference defines it for double. */
+
 /* x^(e/2): a product loop when e is an even integer (e_half = e/2 > 0,
  * unrolled when e_half is a compile-time constant), pow otherwise. */
-PF_FN PF_REAL pf_pow_half(PF_REAL x, PF_REAL e, int e_half) {
-  if (e_half > 0) {
-    PF_REAL r = x;
-    for (int k = 1; k < e_half; ++k) r *= x;
-    return r;
+#define PF_DEFINE_POW_HALF(NAME, T)                                                                       \
+  PF_FN T NAME(T x, PF_REAL e, int e_half) {                                                              \
+    if (e_half > 0) {                                                                                     \
+      T r = x;                                                                                            \
+      for (int k = 1; k < e_half; ++k) r *= x;                                                            \
+      return r;                                                                                           \
+    }                                                                                                     \
+    return pow(x, (T)((PF_REAL)0.5 * e));                                                                 \
   }
-  return pow(x, (PF_REAL)0.5 * e);
-}
+PF_DEFINE_POW_HALF(pf_pow_half, PF_REAL)
+
+/* Pairs on top of each other: where `tiny` (the caller's test d2 <
+ * d_min^2), the pair's separation d = x_i - x_j becomes a fixed,
+ * antisymmetric one, (-d_min, 0, 0) where j_after_i (j's index above
+ * i's) and (d_min, 0, 0) otherwise, and d2 = d_min^2; so the two
+ * particles of a pair are pushed apart along x in opposite directions. */
+#define PF_DEFINE_APART(NAME, T, M)                                                                       \
+  PF_FN void NAME(T* dx, T* dy, T* dz, T* d2, M tiny, M j_after_i, T d_min) {                             \
+    *dx = select(*dx, select(d_min, -d_min, j_after_i), tiny);                                            \
+    *dy = select(*dy, (T)0, tiny);                                                                        \
+    *dz = select(*dz, (T)0, tiny);                                                                        \
+    *d2 = select(*d2, d_min * d_min, tiny);                                                               \
+  }
+PF_DEFINE_APART(pf_apart, PF_REAL, int)
 
 /* Lennard-Jones pair of DESIGN.md with exponents a > b, for squared centre
  * distance d2 > 0 and squared cutoff rc2:
@@ -61,22 +85,52 @@ PF_FN PF_REAL pf_lj_energy(PF_REAL d2, PF_REAL sigma2, PF_REAL eps, PF_REAL a, P
  * ratio giving restitution e for that linearised contact:
  * zeta = -ln e / sqrt(pi^2 + ln^2 e) (0 for e = 1: no dissipation).
  * Returns c. */
-PF_FN PF_REAL pf_contact_damping(PF_REAL un, PF_REAL inv_mass_i, PF_REAL inv_mass_j, PF_REAL dashpot) {
-  return -dashpot * sqrt((PF_REAL)1 / (inv_mass_i + inv_mass_j)) * un;
-}
+#define PF_DEFINE_CONTACT_DAMPING(NAME, T, INV_SQRT)                                                     \
+  PF_FN T NAME(T un, T inv_mass_i, T inv_mass_j, T dashpot) {                                             \
+    return -dashpot * INV_SQRT(inv_mass_i + inv_mass_j) * un;                                             \
+  }
+/* 1 / sqrt(x) as the scalar forms round it (the CPU form: x86.cl pf_rsqrt8). */
+PF_FN PF_REAL pf_inv_sqrt(PF_REAL x) { return sqrt((PF_REAL)1 / x); }
+PF_DEFINE_CONTACT_DAMPING(pf_contact_damping, PF_REAL, pf_inv_sqrt)
 
 /* Wall response: with outward unit normal n and un = u.n, a sphere moving
  * outwards (un > 0) gets u += s n with s = -(1 + e_wall) un, so its normal
  * velocity becomes -e_wall un. Returns s (0 when moving inwards). */
-PF_FN PF_REAL pf_wall_velocity_change(PF_REAL un, PF_REAL wall_restitution) {
-  return un > (PF_REAL)0 ? -((PF_REAL)1 + wall_restitution) * un : (PF_REAL)0;
-}
+#define PF_DEFINE_WALL_VELOCITY_CHANGE(NAME, T)                                                           \
+  PF_FN T NAME(T un, T wall_restitution) {                                                                \
+    return select((T)0, -((T)1 + wall_restitution) * un, un > (T)0);                                      \
+  }
+PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change, PF_REAL)
+
+/* Integration (leapfrog with half-step velocities) of one particle before
+ * the wall: u = (u + dt F / m) damp, capped at speed vmax (a displacement
+ * of at most vmax dt a step), then p += dt u; explicit fma()s, so that
+ * every form rounds alike whatever its compiler contracts. Takes u and p,
+ * returns the speed before the cap. */
+#define PF_DEFINE_KICK_DRIFT(NAME, T)                                                                     \
+  PF_FN T NAME(T* ux, T* uy, T* uz, T* px, T* py, T* pz, T fx, T fy, T fz, T inv_mass, T dt, T damp,      \
+               T vmax) {                                                                                  \
+    const T k = dt * inv_mass;                                                                            \
+    *ux = fma(k, fx, *ux) * damp;                                                                         \
+    *uy = fma(k, fy, *uy) * damp;                                                                         \
+    *uz = fma(k, fz, *uz) * damp;                                                                         \
+    const T speed = sqrt(fma(*uz, *uz, fma(*uy, *uy, *ux * *ux)));                                        \
+    const T scale = select((T)1, vmax / speed, speed > vmax);                                             \
+    *ux *= scale;                                                                                         \
+    *uy *= scale;                                                                                         \
+    *uz *= scale;                                                                                         \
+    *px = fma(dt, *ux, *px);                                                                              \
+    *py = fma(dt, *uy, *py);                                                                              \
+    *pz = fma(dt, *uz, *pz);                                                                              \
+    return speed;                                                                                         \
+  }
+PF_DEFINE_KICK_DRIFT(pf_kick_drift, PF_REAL)
 
 /* Trilinear interpolation of one grid cell's corner values vIJK (I, J, K
  * the offsets along x, y, z) at fractions (tx, ty, tz), and in g[0..2] the
  * exact gradient of the interpolant. Shared by every way of reading the
  * corners (buffer, image), so all give the same value and gradient; as a
- * definition over the value type T, so that engine.cl's 8-lane sample
+ * definition over the value type T, so that field.cl's 8-lane sample
  * (T = float8) has the same formula too. */
 #define PF_DEFINE_TRILINEAR(NAME, T)                                                                      \
   PF_FN T NAME(T v000, T v100, T v010, T v110, T v001, T v101, T v011, T v111, T tx, T ty, T tz,          \

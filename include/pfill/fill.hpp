@@ -100,7 +100,7 @@ struct FillOptions {
   // Machinery.
   double field_spacing = 0.33;  ///< signed distance grid spacing, in radii
   size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
-  double skin = 0.5;            ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it)
+  double skin = 0;              ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it); 0: the step form's automatic one (kCpuFormSkinSigma 0.5, kGpuFormSkinSigma 0.3)
   int sync_every = 8;           ///< steps between reads of the step history
   int sort_every = 1024;        ///< steps between renumberings of the particles along the cells (0: never)
   std::string device;           ///< OpenCL device spec (index or name); "" = default

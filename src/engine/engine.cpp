@@ -1,24 +1,25 @@
 // The OpenCL particle engine: device buffers, program build, and the host
 // side of births, removals, steps and read-backs (see engine.hpp and the
-// top of kernels/engine.cl for the step's design).
+// top of kernels/common.cl for the step's design).
 #include "pfill/engine/engine.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <utility>
 #include <sstream>
 #include <vector>
 
 #include "pfill/device/device.hpp"
 #include "pfill/device/program.hpp"
+#include "engine/cell_grid.hpp"
+#include "engine/device_field.hpp"
+#include "engine/neighbour_lists.hpp"
+#include "engine/step_history.hpp"
 #include "pfill/error.hpp"
 
 namespace pfill {
 
 namespace {
-
-constexpr size_t kRecord = 8;           // floats per history / partial record (engine.cl PF_RECORD)
 
 std::string flt(double v) {
   std::ostringstream s;
@@ -36,19 +37,13 @@ cl_float4 f4(double x, double y, double z, double w) {
   return v;
 }
 
-cl_int4 i4(int x, int y, int z, int w) {
-  cl_int4 v;
-  v.s[0] = x;
-  v.s[1] = y;
-  v.s[2] = z;
-  v.s[3] = w;
-  return v;
-}
-
-uint32_t as_uint(float f) {
-  uint32_t u;
-  std::memcpy(&u, &f, sizeof u);
-  return u;
+// The kernel files of a step form, in build order (kernels/common.cl
+// says what each holds).
+std::vector<std::string> kernel_files(bool gpu_form) {
+  if (gpu_form)
+    return {"physics.cl", "common.cl", "cells.cl", "gpu_lists.cl", "births_removals.cl", "field.cl", "gpu_step.cl"};
+  return {"physics.cl", "common.cl",          "x86.cl",       "cells.cl",    "cpu_lists.cl",
+          "births_removals.cl", "field.cl", "cpu_pairs.cl", "cpu_step.cl"};
 }
 
 // EngineParams::step_form resolved for the device.
@@ -87,48 +82,25 @@ struct Engine::Impl {
   // work-item (EngineParams::force_buffers; set by reserve()); else 1 (0 on GPUs).
   size_t force_groups = 0;
   Program program;
-  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_finalize, k_neighbours, k_pairs;
+  Kernel k_step, k_insert, k_birth, k_move, k_birth_linked, k_remove_linked, k_neighbours, k_pairs;
+  NeighbourLists nl;  // the lists, their request words, the births linked in
+  CellGrid cells;     // the grid the lists are built from (filled only on the steps that rebuild them)
+  DeviceField wall;   // the distance field the wall kernels sample
 
   size_t n = 0, capacity = 0;
   std::vector<uint64_t> ids;  // Particle::id of each index, kept host-side through removals and sorts
   int cur = 0;  // which half of X and V holds the current state
   cl::Buffer X[2], V[2], flags, clearance;
-  // Neighbour lists (see the top of engine.cl).
-  cl::Buffer lists, list_counts, list_origins, rebuild_requests;
-  cl::Buffer list_spans;  // CPU form with Newton: each packed row's first word and room (engine.cl PF_LIST_ROW)
-  // CPU form with EngineParams::inner_lists: the inner lists (rows as the
-  // lists'), their counts, and where each particle was when they were pruned.
-  cl::Buffer inner_lists, inner_counts, prune_origins;
-  bool lists_valid = false;  // false: the next step rebuilds every list
-  std::vector<int> newcomers;  // linked births since the last step: their rows get sorted (at most 4)
   // CPU form: force_groups buffers of `capacity` forces (zero between
   // steps), and the list build's overflow bits for `advance`.
   cl::Buffer forces, build_bits;
   // CPU form with Newton: per force buffer, the particles [first, end)
   // whose forces pair_forces may have changed there (`advance` reads those)
   cl::Buffer force_spans;
-  // Cells (filled only on steps that rebuild the lists): count words and slots.
-  cl_float4 cell_origin{}, cell_inv{};
-  cl_int4 cell_dims{};
-  size_t cell_total = 0;
-  bool have_domain = false;
-  // Two sets of cell_total count words, used by the step's parity, and
-  // by parity the cells each particle was first into and how many
-  // particles were listed: the next step empties them (insert_cells).
-  cl::Buffer counts, slots, touched, touched_upto;
   // Field.
-  cl::Buffer sdf;
-  cl::Image3D sdf_image;  // EngineParams::field_image: the field as a 3D image instead of `sdf`
-  cl_float4 sdf_origin{};
-  cl_int4 sdf_dims{};
-  // Per-step scalars in flight (see the top of engine.cl): level-1
-  // partials of the last step, level-2 partials of the one before.
-  cl::Buffer level1[2], level2[2], history;
-  size_t level1_pending = 0;  // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
-  size_t level2_pending = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
-  uint64_t steps = 0, history_read = 0;
-  std::vector<StepRecord> backlog;
-  std::vector<float> history_host;  // read-back staging, kept to avoid an allocation per read
+  // The per-step records: the device's ring, the sums in flight, the read-back.
+  std::unique_ptr<StepHistory> records;
+  uint64_t steps = 0;
   std::vector<std::pair<std::string, cl::Event>> events;
 
   Impl(Device& d, const EngineParams& p)
@@ -138,9 +110,12 @@ struct Engine::Impl {
         pair_queue(!gpu_form && (p.pair_queue == PairQueue::automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on)),
         inner(!gpu_form && (p.inner_lists == InnerLists::automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < params.skin_sigma
                                                                      : p.inner_lists == InnerLists::on)),
-        program(d, {"physics.cl", "engine.cl"}, defines()) {
+        program(d, kernel_files(gpu_form), defines()),
+        nl(d, ListLayout{constants.list_capacity, newton, inner}),
+        cells(d, constants.cell_size, constants.cell_capacity),
+        wall(d, params.field_image) {
     k_step = program.kernel("advance", group_size);
-    k_finalize = program.kernel("finalize_history", group_size);
+    Kernel k_finalize = program.kernel("finalize_history", group_size);
     for (const Kernel* k : {&k_step, &k_finalize})
       if (k->work_group() != group_size)
         throw Error("engine: device '" + device.info().name + "' runs " + k->name() + " with at most " +
@@ -153,46 +128,10 @@ struct Engine::Impl {
     k_remove_linked = program.kernel("remove_linked", params.work_group);
     k_neighbours = program.kernel("list_neighbours", params.work_group);
     if (!gpu_form) k_pairs = program.kernel("pair_forces", 1);
-    history = device.make_buffer(params.history_capacity * kRecord * sizeof(float), "history");
-    touched_upto = device.make_buffer(2 * sizeof(cl_uint), "cells to empty");
-    rebuild_requests = device.make_buffer(3 * sizeof(cl_uint), "list rebuild requests");
-    check_cl(device.queue().enqueueFillBuffer(rebuild_requests, cl_uint(0), 0, 3 * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "list rebuild requests");
-    sdf = device.make_buffer(sizeof(float), "sdf (none)");
-    sdf_dims = i4(2, 2, 2, 0);
-    if (params.field_image) {
-      const std::vector<float> none(8, 0.0f);
-      sdf_image = make_field_image(2, 2, 2, none.data());
-    }
+    records = std::make_unique<StepHistory>(device, params.history_capacity, group_size, k_finalize,
+                                            [this](Kernel& k, size_t items) { run(k, items); });
     reserve(64);
     if (!params.domain.empty()) set_domain(params.domain);
-  }
-
-  // The field as a CL_R / CL_FLOAT 3D image (EngineParams::field_image),
-  // checked against the device's 3D image limits and formats.
-  cl::Image3D make_field_image(int nx, int ny, int nz, const float* values) const {
-    const cl::Device& dev = device.device();
-    const size_t w = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_WIDTH>(), h = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_HEIGHT>(),
-                 d = dev.getInfo<CL_DEVICE_IMAGE3D_MAX_DEPTH>();
-    if (static_cast<size_t>(nx) > w || static_cast<size_t>(ny) > h || static_cast<size_t>(nz) > d)
-      throw Error("engine: the distance field (" + std::to_string(nx) + "x" + std::to_string(ny) + "x" +
-                  std::to_string(nz) + ") exceeds the device's 3D image limit " + std::to_string(w) + "x" +
-                  std::to_string(h) + "x" + std::to_string(d) + "; unset EngineParams::field_image");
-    std::vector<cl::ImageFormat> formats;
-    check_cl(device.context().getSupportedImageFormats(CL_MEM_READ_ONLY, CL_MEM_OBJECT_IMAGE3D, &formats),
-             "clGetSupportedImageFormats", "sdf image");
-    const bool r_float = std::any_of(formats.begin(), formats.end(), [](const cl::ImageFormat& f) {
-      return f.image_channel_order == CL_R && f.image_channel_data_type == CL_FLOAT;
-    });
-    if (!r_float)
-      throw Error("engine: device '" + device.info().name +
-                  "' has no CL_R / CL_FLOAT 3D image format; unset EngineParams::field_image");
-    cl_int err = CL_SUCCESS;
-    cl::Image3D image(device.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cl::ImageFormat(CL_R, CL_FLOAT),
-                      static_cast<size_t>(nx), static_cast<size_t>(ny), static_cast<size_t>(nz), 0, 0,
-                      const_cast<float*>(values), &err);
-    check_cl(err, "clCreateImage", "sdf image");
-    return image;
   }
 
   std::map<std::string, std::string> defines() const {
@@ -201,7 +140,6 @@ struct Engine::Impl {
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
     size_t root = 1;  // about sqrt(PF_WG): two short serial runs
     while (4 * root * root <= group_size) root *= 2;
-    d["PF_GPU_FORM"] = gpu_form ? "1" : "0";  // (reserve() keeps the capacity a multiple of its 32-row tiles)
     d["PF_NEWTON"] = newton ? "1" : "0";
     d["PF_PAIR_QUEUE"] = pair_queue ? "1" : "0";
     d["PF_INNER"] = inner ? "1" : "0";
@@ -268,15 +206,9 @@ struct Engine::Impl {
   // pair_forces work-items: with Newton one per force buffer, else one per 64 particles.
   size_t pair_items() const { return newton ? force_groups : std::max<size_t>(1, (n + 63) / 64); }
 
-  cl_int4 sort_rows() const {
-    int r[4] = {-1, -1, -1, -1};
-    for (size_t k = 0; k < newcomers.size() && k < 4; ++k) r[k] = newcomers[k];
-    return i4(r[0], r[1], r[2], r[3]);
-  }
-
   size_t groups_for(size_t count) const { return (count + group_size - 1) / group_size; }
   // Level-1 partials of a step of n particles: one a work-group (GPU
-  // form), or one an octet of particles, the last maybe partial (engine.cl
+  // form), or one an octet of particles, the last maybe partial (cpu_step.cl
   // advance).
   size_t level1_count(size_t count) const {
     return std::max<size_t>(gpu_form ? groups_for(count) : (count + 7) / 8, 1);
@@ -284,8 +216,8 @@ struct Engine::Impl {
 
   // New buffers may reuse a freed buffer's handle: set every argument again.
   void forget_kernel_args() {
-    for (Kernel* k : {&k_step, &k_insert, &k_birth, &k_move, &k_birth_linked, &k_remove_linked, &k_finalize,
-                      &k_neighbours, &k_pairs})
+    for (Kernel* k : {&k_step, &k_insert, &k_birth, &k_move, &k_birth_linked, &k_remove_linked, &k_neighbours,
+                      &k_pairs})
       k->forget_args();
   }
 
@@ -294,11 +226,11 @@ struct Engine::Impl {
     if (want <= capacity) return;
     size_t cap = std::max<size_t>(capacity, 64);
     while (cap < want) cap *= 2;
-    // CPU list rows hold byte offsets (16 j: see PF_ENTRY in engine.cl),
+    // CPU list rows hold byte offsets (16 j: see PF_ENTRY in cpu_lists.cl),
     // which the AVX-512 gathers take as signed 32-bit.
     if (!gpu_form && cap > (size_t(1) << 27))
       throw Error("engine: " + std::to_string(want) + " particles are more than the CPU form holds (2^27); use a larger radius");
-    reduce_pending();  // the record buffers are reallocated below
+    records->finish_pending(steps);  // the record buffers are reallocated below
     cl::Buffer nx[2], nv[2];
     for (int h = 0; h < (gpu_form ? 2 : 1); ++h) {
       nx[h] = device.make_buffer(cap * sizeof(cl_float4), "positions");
@@ -326,36 +258,7 @@ struct Engine::Impl {
     clearance = nc;
     capacity = cap;
     force_groups = pair_force_groups(cap);
-    // With Newton the CPU form packs a block's rows into its PF_ROW_STRIDE
-    // (capacity + 8) words a particle; blocks may reach force_groups
-    // particles past the capacity; 8 more words for the pair loop's eights
-    // past the last row.
-    const size_t list_words = newton ? (cap + force_groups) * (constants.list_capacity + 8) + 8
-                                     : cap * constants.list_capacity;
-    lists = device.make_buffer(list_words * sizeof(cl_uint), "neighbour lists");
-    // Zeroed: the CPU pair loop reads a row's entries in eights, past its
-    // count too (then masks them), so every entry must be an index below
-    // the capacity (the build pads with the row's own particle).
-    check_cl(device.queue().enqueueFillBuffer(lists, cl_uint(0), 0, list_words * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "neighbour lists");
-    list_spans = device.make_buffer((newton ? cap : 1) * sizeof(cl_uint2), "neighbour list rows");
-    check_cl(device.queue().enqueueFillBuffer(list_spans, cl_uint(0), 0, (newton ? cap : 1) * sizeof(cl_uint2)),
-             "clEnqueueFillBuffer", "neighbour list rows");
-    list_counts = device.make_buffer(cap * sizeof(cl_uint), "neighbour list counts");
-    // Counts past the last particle stay 0: a linked birth counts up from there.
-    check_cl(device.queue().enqueueFillBuffer(list_counts, cl_uint(0), 0, cap * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "neighbour list counts");
-    list_origins = device.make_buffer(cap * sizeof(cl_float4), "neighbour list origins");
-    const size_t inner_cap = inner ? cap : 1;  // (a word each when unused)
-    // Packed rows (see pair_forces): 8 entries of slack for the pair loop's eights past the last row's end.
-    const size_t inner_words = inner_cap * constants.list_capacity + 8;
-    inner_lists = device.make_buffer(inner_words * sizeof(cl_uint), "inner neighbour lists");
-    check_cl(device.queue().enqueueFillBuffer(inner_lists, cl_uint(0), 0, inner_words * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "inner neighbour lists");  // zeroed, as the lists are
-    // Read only after a pruning wrote them: the first step after this prunes,
-    // as does the step after any linked birth or removal.
-    inner_counts = device.make_buffer(inner_cap * sizeof(cl_uint2), "inner neighbour list counts");
-    prune_origins = device.make_buffer(inner_cap * sizeof(cl_float4), "inner neighbour list origins");
+    nl.reserve(cap, force_groups);
     const size_t force_count = std::max<size_t>(force_groups * cap, 1);
     forces = device.make_buffer(force_count * sizeof(cl_float4), "pair forces");
     check_cl(device.queue().enqueueFillBuffer(forces, cl_float(0), 0, force_count * sizeof(cl_float4)),
@@ -365,161 +268,79 @@ struct Engine::Impl {
     force_spans = device.make_buffer(span_bytes, "pair force spans");
     check_cl(device.queue().enqueueFillBuffer(force_spans, cl_uint(0), 0, span_bytes), "clEnqueueFillBuffer",
              "pair force spans");
-    touched = device.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
-    if (have_domain) clear_cells();  // the cells the last step filled were listed in the old `touched`
-    lists_valid = false;
+    cells.reserve(cap);
     forget_kernel_args();
-    const size_t g1 = level1_count(cap) + 1, g2 = groups_for(g1) + 1;
-    for (auto& b : level1) b = device.make_buffer(g1 * kRecord * sizeof(float), "step partials (level 1)");
-    for (auto& b : level2) b = device.make_buffer(g2 * kRecord * sizeof(float), "step partials (level 2)");
+    records->reserve(level1_count(cap), steps);
   }
 
-  // The neighbour grid over `box`: cells of edge exactly cell_size (the
-  // grid may reach a little past the box; particles outside clamp in).
+  // The neighbour grid over `box` (the lists are then rebuilt).
   void set_domain(const Box3& box) {
-    const double cs = constants.cell_size;
-    int dims[3];
-    double total = 1;
-    for (int a = 0; a < 3; ++a) {
-      dims[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
-      total *= dims[a];
-    }
-    if (total * constants.cell_capacity * 5 > 1.5e9)
-      throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
-                  " cells; use a larger radius or a smaller domain");
-    cell_origin = f4(box.lo.x, box.lo.y, box.lo.z, 0);
-    cell_inv = f4(1 / cs, 1 / cs, 1 / cs, 0);
-    cell_dims = i4(dims[0], dims[1], dims[2], 0);
-    cell_total = static_cast<size_t>(total);
-    counts = device.make_buffer(2 * cell_total * sizeof(cl_uint), "cell counts");
-    const size_t slot_bytes = cell_total * 5 * constants.cell_capacity * sizeof(cl_float);
-    slots = device.make_buffer(slot_bytes, "cell slots");
-    // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
-    check_cl(device.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer",
-             "cell slots");
-    clear_cells();
-    have_domain = true;
-    lists_valid = false;
+    cells.set_domain(box);
+    nl.valid = false;
     forget_kernel_args();
-  }
-
-  // Both sets of cell counts empty, and nothing left for a step to empty.
-  void clear_cells() {
-    check_cl(device.queue().enqueueFillBuffer(counts, cl_uint(0), 0, 2 * cell_total * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "cell counts");
-    check_cl(device.queue().enqueueFillBuffer(touched_upto, cl_uint(0), 0, 2 * sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "cells to empty");
-  }
-
-  // This step's set of cell counts: its first word.
-  cl_uint cell_base() const { return static_cast<cl_uint>((steps % 2) * cell_total); }
-
-  void require_domain() const {
-    if (!have_domain)
-      throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
   }
 
   // Lists X[cur] in this step's cells when `force` or when the list
   // rebuild request of the last step is raised (decided on the device).
   void insert_cells(bool force) {
-    k_insert.set_args(X[cur], counts, slots, cell_base(), cl_uint(cell_total), touched, touched_upto,
-                      cl_uint(capacity), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                      rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(force ? 1 : 0));
+    k_insert.set_args(X[cur], cells.counts, cells.slots, cells.base(steps), cells.total(), cells.touched,
+                      cells.touched_upto, cl_uint(capacity), cells.origin, cells.inv, cells.dims, cl_uint(n),
+                      nl.requests, NeighbourLists::read_slot(steps), cl_uint(force ? 1 : 0));
     // GPUs: an item a particle; CPU devices: a group a core, each item
     // looping (a launch of n items costs PoCL ~0.2 us a group even on the
     // steps that return at once).
     run(k_insert, gpu_form ? n : std::min(n, std::max<size_t>(1, device.info().compute_units) * params.work_group));
   }
 
-  // Finishes the reductions of the steps in flight (one work-group).
-  void reduce_pending() {
-    if (level1_pending == 0 && level2_pending == 0) return;
-    const size_t h = params.history_capacity;
-    const int last = static_cast<int>((steps + 1) % 2), other = 1 - last;  // last = (steps - 1) % 2
-    k_finalize.set_args(level1[last], cl_uint(level1_pending), level2[other], level2[last], cl_uint(level2_pending),
-                        history, cl_uint((steps + h - 1) % h), cl_uint((steps + h - 2) % h));
-    run(k_finalize, group_size);
-    level1_pending = 0;
-    level2_pending = 0;
-  }
-
   // One step: the cells (only when lists will be rebuilt), on CPU devices
   // the pair forces, then the update.
   void step() {
-    require_domain();
-    if (steps - history_read >= params.history_capacity) drain_history();
+    cells.require_domain();
+    if (records->full(steps)) records->drain(steps);
     // GPUs: ping-pong (advance reads other particles' X and V); CPU devices
     // update in place (advance reads only its own particle's), which spares
     // the cache the second copy and the writes their line reads.
     const int nxt = gpu_form ? 1 - cur : cur;
-    const bool force = !lists_valid;
+    const bool force = !nl.valid;
     insert_cells(force);
     if (!gpu_form) {
-      k_pairs.set_args(X[cur], V[cur], counts, slots, cell_base(), cell_origin, cell_inv, cell_dims, cl_uint(n),
-                       lists, list_counts, list_origins, build_bits, rebuild_requests, cl_uint((steps + 2) % 3),
-                       cl_uint(force ? 1 : 0), forces, cl_uint(capacity), sort_rows(), inner_lists, inner_counts,
-                       prune_origins, list_spans, force_spans);
+      k_pairs.set_args(X[cur], V[cur], cells.counts, cells.slots, cells.base(steps), cells.origin, cells.inv,
+                       cells.dims, cl_uint(n), nl.rows, nl.counts, nl.origins, build_bits, nl.requests,
+                       NeighbourLists::read_slot(steps), cl_uint(force ? 1 : 0), forces, cl_uint(capacity),
+                       nl.sort_rows(), nl.inner_rows, nl.inner_counts, nl.prune_origins, nl.spans, force_spans);
       run(k_pairs, pair_items());
     }
-    const size_t h = params.history_capacity;
-    const int now = static_cast<int>(steps % 2), last = 1 - now;
-    const size_t level2_now = groups_for(level1_pending);  // the last step's level-2 partials, made now
+    StepHistory& r = *records;
+    // (the two forms' `advance` take different arguments: gpu_step.cl, cpu_step.cl)
     auto set_step_args = [&](const auto& field) {
-      k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], counts, slots, cell_base(), cell_origin, cell_inv,
-                      cell_dims, field, sdf_origin, sdf_dims, flags, clearance, cl_uint(n), level1[now],
-                      level1[last], cl_uint(level1_pending), level2[now], level2[last], cl_uint(level2_pending),
-                      history, cl_uint((steps + h - 2) % h), lists,
-                      list_counts, list_origins, rebuild_requests, cl_uint((steps + 2) % 3), cl_uint(steps % 3),
-                      cl_uint((steps + 1) % 3), cl_uint(force ? 1 : 0), forces, cl_uint(force_groups),
-                      cl_uint(capacity), build_bits, prune_origins, force_spans);
+      if (gpu_form)
+        k_step.set_args(X[cur], V[cur], X[nxt], V[nxt], cells.counts, cells.slots, cells.base(steps),
+                        cells.origin, cells.inv, cells.dims, field, wall.origin, wall.dims, flags, clearance,
+                        cl_uint(n), r.level1_out(steps), r.level1_prev(steps), r.level1_pending(),
+                        r.level2_out(steps), r.level2_prev(steps), r.level2_pending(), r.ring(),
+                        r.slot_two_back(steps), nl.rows, nl.counts, nl.origins, nl.requests,
+                        NeighbourLists::read_slot(steps), NeighbourLists::raise_slot(steps),
+                        NeighbourLists::clear_slot(steps), cl_uint(force ? 1 : 0));
+      else
+        k_step.set_args(X[cur], V[cur], field, wall.origin, wall.dims, flags, clearance, cl_uint(n),
+                        r.level1_out(steps), r.level1_prev(steps), r.level1_pending(), r.level2_out(steps),
+                        r.level2_prev(steps), r.level2_pending(), r.ring(), r.slot_two_back(steps), nl.origins,
+                        nl.prune_origins, nl.requests, NeighbourLists::read_slot(steps),
+                        NeighbourLists::raise_slot(steps), NeighbourLists::clear_slot(steps), cl_uint(force ? 1 : 0),
+                        forces, cl_uint(force_groups), cl_uint(capacity), force_spans, build_bits);
     };
-    if (params.field_image)
-      set_step_args(sdf_image);
+    if (wall.as_image())
+      set_step_args(wall.image());
     else
-      set_step_args(sdf);
+      set_step_args(wall.buffer());
     // an item a particle (GPU form) or an octet (CPU form: level1_count),
     // and a group for each level-2 partial
-    run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), level2_now * group_size, 1}));
-    newcomers.clear();
-    level2_pending = level2_now;
-    level1_pending = level1_count(n);
-    lists_valid = true;
+    run(k_step, std::max<size_t>({gpu_form ? n : level1_count(n), r.level2_now() * group_size, 1}));
+    nl.newcomers.clear();
+    r.stepped(level1_count(n));
+    nl.valid = true;
     cur = nxt;
     ++steps;
-  }
-
-  // Moves every unread record to the backlog (blocking).
-  void drain_history() {
-    reduce_pending();
-    const size_t count = steps - history_read, cap = params.history_capacity;
-    if (count == 0) return;
-    // Read only the unread slots: one piece, or two when they wrap around.
-    std::vector<float>& raw = history_host;
-    raw.resize(cap * kRecord);
-    const size_t first = history_read % cap, wrapped = std::min(count, cap - first);
-    check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, first * kRecord * sizeof(float),
-                                              wrapped * kRecord * sizeof(float), &raw[first * kRecord]),
-             "clEnqueueReadBuffer", "history");
-    if (count > wrapped)
-      check_cl(device.queue().enqueueReadBuffer(history, CL_FALSE, 0, (count - wrapped) * kRecord * sizeof(float),
-                                                raw.data()),
-               "clEnqueueReadBuffer", "history");
-    device.finish();
-    for (uint64_t s = history_read; s < steps; ++s) {
-      const float* r = &raw[(s % cap) * kRecord];
-      StepRecord rec;
-      rec.step = s;
-      rec.kinetic_energy = r[0];
-      rec.max_speed = std::sqrt(r[1]);  // the kernels keep squares (engine.cl pf_record)
-      rec.max_displacement = std::sqrt(r[2]);
-      rec.lists_rebuilt = r[3] > 0.5f;
-      rec.colliding_pairs = as_uint(r[4]);
-      rec.flagged = as_uint(r[5]);
-      rec.cell_overflow = as_uint(r[6]);
-      rec.particles = as_uint(r[7]);
-      backlog.push_back(rec);
-    }
-    history_read = steps;
   }
 };
 
@@ -533,21 +354,7 @@ uint64_t Engine::steps_done() const { return impl_->steps; }
 
 void Engine::set_field(const ScalarGrid& field) {
   Impl& m = *impl_;
-  if (field.dims[0] < 2 || field.dims[1] < 2 || field.dims[2] < 2)
-    throw Error("engine: the distance field needs at least 2 samples along each axis");
-  if (field.values.size() != static_cast<size_t>(field.dims[0]) * field.dims[1] * field.dims[2])
-    throw Error("engine: the distance field has " + std::to_string(field.values.size()) +
-                " values for its dimensions; rebuild it");
-  if (!(field.spacing > 0)) throw Error("engine: the distance field's spacing must be > 0");
-  if (m.params.field_image) {
-    m.sdf_image = m.make_field_image(field.dims[0], field.dims[1], field.dims[2], field.values.data());
-  } else {
-    m.sdf = m.device.make_buffer(field.bytes(), "sdf");
-    check_cl(m.device.queue().enqueueWriteBuffer(m.sdf, CL_TRUE, 0, field.bytes(), field.values.data()),
-             "clEnqueueWriteBuffer", "sdf");
-  }
-  m.sdf_origin = f4(field.origin.x, field.origin.y, field.origin.z, 1 / field.spacing);
-  m.sdf_dims = i4(field.dims[0], field.dims[1], field.dims[2], 1);
+  m.wall.set(field);
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());
@@ -571,16 +378,16 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
   }
   m.reserve(first + particles.size());
   for (const Particle& p : particles) m.ids.push_back(p.id);
-  if (particles.size() == 1 && m.lists_valid && m.newcomers.size() < 4) {  // link it into the lists in place
-    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts, m.list_spans,
-                              m.list_origins, m.rebuild_requests, cl_uint((m.steps + 2) % 3), cl_uint(first), xs[0],
+  if (particles.size() == 1 && m.nl.valid && m.nl.newcomers.size() < 4) {  // link it into the lists in place
+    m.k_birth_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.nl.rows, m.nl.counts, m.nl.spans,
+                              m.nl.origins, m.nl.requests, NeighbourLists::read_slot(m.steps), cl_uint(first), xs[0],
                               vs[0]);
     m.run(m.k_birth_linked, first + 1);
-    m.newcomers.push_back(static_cast<int>(first));
+    m.nl.newcomers.push_back(static_cast<int>(first));
     m.n += 1;
     return first;
   }
-  m.lists_valid = false;  // the next step lists the newcomers
+  m.nl.valid = false;  // the next step lists the newcomers
   if (particles.size() == 1) {
     m.k_birth.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(first), xs[0], vs[0]);
     m.run(m.k_birth, 1);
@@ -610,15 +417,15 @@ void Engine::remove_particles(std::vector<size_t> indices) {
       throw Error("engine: cannot remove particle " + std::to_string(idx) + " of " + std::to_string(m.n));
   for (size_t idx : indices) {
     const size_t last = m.n - 1;
-    if (m.lists_valid) {  // keep the lists: drop `idx`, rename `last`
-      m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.lists, m.list_counts,
-                                 m.list_spans, m.list_origins, cl_uint(m.n), cl_uint(idx), m.rebuild_requests,
-                                 cl_uint((m.steps + 2) % 3));
+    if (m.nl.valid) {  // keep the lists: drop `idx`, rename `last`
+      m.k_remove_linked.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, m.nl.rows, m.nl.counts,
+                                 m.nl.spans, m.nl.origins, cl_uint(m.n), cl_uint(idx), m.nl.requests,
+                                 NeighbourLists::read_slot(m.steps));
       m.run(m.k_remove_linked, m.n);
       // A newcomer's unsorted row moves with it from `last` to `idx`.
-      for (int& k : m.newcomers)
+      for (int& k : m.nl.newcomers)
         if (k == static_cast<int>(idx)) k = -1;
-      for (int& k : m.newcomers)
+      for (int& k : m.nl.newcomers)
         if (k == static_cast<int>(last)) k = static_cast<int>(idx);
     } else if (idx != last) {
       m.k_move.set_args(m.X[m.cur], m.V[m.cur], m.flags, m.clearance, cl_uint(last), cl_uint(idx));
@@ -627,8 +434,7 @@ void Engine::remove_particles(std::vector<size_t> indices) {
     m.ids[idx] = m.ids[last];  // the ids follow the swap with the last
     m.ids.pop_back();
     // Counts past the last particle stay 0 (a linked birth counts up from there).
-    check_cl(m.device.queue().enqueueFillBuffer(m.list_counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
-             "clEnqueueFillBuffer", "neighbour list count");
+    m.nl.clear_count(last);
     m.n -= 1;
   }
 }
@@ -652,8 +458,8 @@ void Engine::run_steps(size_t k) {
 }
 
 std::vector<StepRecord> Engine::read_history() {
-  impl_->drain_history();
-  return std::exchange(impl_->backlog, {});
+  impl_->records->drain(impl_->steps);
+  return impl_->records->take();
 }
 
 std::vector<Particle> Engine::read_particles() {
@@ -693,8 +499,8 @@ uint64_t spread_bits(uint64_t v) {
 
 std::vector<size_t> Engine::sort_by_cells() {
   Impl& m = *impl_;
-  m.require_domain();
-  m.reduce_pending();
+  m.cells.require_domain();
+  m.records->finish_pending(m.steps);
   const size_t n = m.n;
   std::vector<cl_float4> xs(n), vs(n);
   std::vector<cl_uint> flags(n);
@@ -712,8 +518,8 @@ std::vector<size_t> Engine::sort_by_cells() {
   for (size_t i = 0; i < n; ++i) {
     uint64_t key = 0;
     for (int a = 0; a < 3; ++a) {
-      const double t = std::floor((xs[i].s[a] - m.cell_origin.s[a]) * m.cell_inv.s[a]);
-      const int c = static_cast<int>(std::clamp(t, 0.0, static_cast<double>(m.cell_dims.s[a] - 1)));
+      const double t = std::floor((xs[i].s[a] - m.cells.origin.s[a]) * m.cells.inv.s[a]);
+      const int c = static_cast<int>(std::clamp(t, 0.0, static_cast<double>(m.cells.dims.s[a] - 1)));
       key |= spread_bits(static_cast<uint64_t>(c)) << a;
     }
     keyed[i] = {key, i};
@@ -743,8 +549,8 @@ std::vector<size_t> Engine::sort_by_cells() {
              "clearance");
   }
   m.ids = std::move(ids2);
-  m.lists_valid = false;  // the next step rebuilds every list
-  m.newcomers.clear();
+  m.nl.valid = false;  // the next step rebuilds every list
+  m.nl.newcomers.clear();
   return order;
 }
 
@@ -770,15 +576,15 @@ void Engine::finish() { impl_->device.finish(); }
 
 std::vector<std::vector<uint32_t>> Engine::neighbour_lists() {
   Impl& m = *impl_;
-  m.require_domain();
+  m.cells.require_domain();
   m.insert_cells(true);
   const cl_uint max_out = 256;
   cl::Buffer counts = m.device.make_buffer(std::max<size_t>(m.n, 1) * sizeof(cl_uint), "neighbour counts");
   cl::Buffer lists = m.device.make_buffer(std::max<size_t>(m.n, 1) * max_out * sizeof(cl_uint), "neighbour lists");
-  m.k_neighbours.set_args(m.X[m.cur], m.counts, m.slots, m.cell_base(), m.cell_origin,
-                          m.cell_inv, m.cell_dims, cl_uint(m.n), counts, lists, max_out);
+  m.k_neighbours.set_args(m.X[m.cur], m.cells.counts, m.cells.slots, m.cells.base(m.steps), m.cells.origin,
+                          m.cells.inv, m.cells.dims, cl_uint(m.n), counts, lists, max_out);
   m.run(m.k_neighbours, m.n);
-  m.clear_cells();  // as the steps expect them: this step's set empty
+  m.cells.clear();  // as the steps expect them: this step's set empty
   std::vector<cl_uint> c(m.n), l(m.n * max_out);
   if (m.n > 0) {
     check_cl(m.device.queue().enqueueReadBuffer(counts, CL_TRUE, 0, c.size() * sizeof(cl_uint), c.data()),

@@ -1,6 +1,6 @@
 // The double-precision oracle of the engine step: the same formulas
 // (kernels/physics.cl, included below with PF_REAL = double) and the same
-// order of operations as kernels/engine.cl, with brute-force pairs.
+// order of operations as the kernels (kernels/*_step.cl), with brute-force pairs.
 #include "pfill/engine/reference.hpp"
 
 #include <algorithm>
@@ -15,7 +15,12 @@ namespace pfill {
 namespace physics {
 // What physics.cl needs from OpenCL C, in double precision.
 inline int min(int a, int b) { return a < b ? a : b; }
+template <class T>
+inline T select(T a, T b, int c) {
+  return c ? b : a;
+}
 using ::floor;
+using ::fma;
 using ::fmax;
 using ::fmin;
 using ::pow;
@@ -31,7 +36,7 @@ using ::sqrt;
 
 namespace {
 
-constexpr int kWallIterations = 2;  // as PF_WALL_ITERATIONS in engine.cl
+constexpr int kWallIterations = 2;  // as PF_WALL_ITERATIONS in the kernels
 
 double sample(const ScalarGrid& f, const Vec3& p, Vec3& g) {
   double gg[3];
@@ -88,10 +93,7 @@ StepRecord ReferenceEngine::step() {
       double d2 = dot(d, d);
       const double rs = pi.radius + pj.radius;
       if (d2 >= std::max(rc2, rs * rs)) continue;
-      if (d2 < dmin * dmin) {
-        d = {i < j ? -dmin : dmin, 0, 0};
-        d2 = dmin * dmin;
-      }
+      physics::pf_apart(&d.x, &d.y, &d.z, &d2, d2 < dmin * dmin, j > i, dmin);
       force += physics::pf_lj_force_scale(d2, sigma2, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
                                           c.b_half, rc2, c.force_cap) * d;
       if (d2 < std::max(rs * rs, c.contact_distance * c.contact_distance)) {
@@ -100,10 +102,9 @@ StepRecord ReferenceEngine::step() {
         if (j > i && d2 < rs * rs) ++rec.colliding_pairs;
       }
     }
-    Vec3 u = (pi.velocity + (c.dt * inv_mi) * force) * c.damping_factor;
-    const double speed = length(u);
-    if (speed > c.max_speed) u *= c.max_speed / speed;
-    Vec3 x = pi.position + c.dt * u;
+    Vec3 u = pi.velocity, x = pi.position;
+    physics::pf_kick_drift(&u.x, &u.y, &u.z, &x.x, &x.y, &x.z, force.x, force.y, force.z, inv_mi, c.dt,
+                           c.damping_factor, c.max_speed);
     if (has_field_) {
       Vec3 g;
       double phi = sample(field_, x, g);

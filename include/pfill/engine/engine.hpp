@@ -3,7 +3,7 @@
 /// and advances it. The fill (birth, removal, stopping tests) drives it
 /// through this header only; it never sees OpenCL buffers or kernels.
 ///
-/// Physics (kernels/physics.cl, kernels/engine.cl): Lennard-Jones pair
+/// Physics (kernels/physics.cl; the steps in kernels/*_step.cl): Lennard-Jones pair
 /// forces with exponents (a, b) shifted to zero at the cutoff, inelastic
 /// contact impulses between overlapping spheres (restitution), a wall from
 /// a signed distance field (negative inside) that keeps every centre at

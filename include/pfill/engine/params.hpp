@@ -51,7 +51,7 @@ struct EngineParams {
   /// support, or a field larger than its 3D image limits, is a pfill::Error
   /// (no silent fallback: the setting is explicit).
   bool field_image = false;
-  /// How the step's kernels are written (kernels/engine.cl): `cpu` takes 8
+  /// How the step's kernels are written (kernels/cpu_*.cl, gpu_*.cl): `cpu` takes 8
   /// list entries at a time as float8 vectors (PoCL turns them into SIMD)
   /// in a kernel of its own (pair_forces) and sums the per-step scalars one
   /// work-item to a run (no barriers); `gpu` takes entries 4 at a time with

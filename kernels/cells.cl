@@ -1,0 +1,137 @@
+/* cells.cl: the neighbour grid (after common.cl).
+ *
+ * Cells: a uniform grid, at most PF_CELL_CAP particles a cell, filled
+ * only on the steps that rebuild the lists. Two sets of count words take
+ * turns by the step's parity (cell_base: 0 or the number of cells), so an
+ * insertion is one atomic_inc on a zero count: each step zeroes the cells
+ * the step before filled in the other set (the first particle into a cell
+ * notes it in `touched`). A cell's slots
+ * are one block of PF_CELL_CAP / 8 chunks, each of 5 rows of 8 floats
+ * holding copies of 8 particles' x, y, z, radius and index (as uint bits),
+ * so a list build reads 8 candidates at once as float8 vectors from 160
+ * contiguous bytes, without gathers.
+ *
+ * Neighbour lists (Verlet, with a skin): each particle keeps the indices
+ * of the particles within PF_RL of it (cutoff or contact reach, plus the
+ * skin) when the list was built, and where it was (XREF); with PF_NEWTON
+ * (CPU devices with few cores) each pair is in only one of its two
+ * particles' lists. A step that moves
+ * any particle more than half the skin from XREF raises a request flag; the
+ * next step then fills the cells (insert_cells, which returns at once
+ * otherwise) and rebuilds every list from them (each work-item its own
+ * list). Flags rotate over three words: a step reads one, raises the next,
+ * clears the third. Births and removals while the lists are valid update
+ * them in place (birth_linked, remove_linked); bulk additions and growth
+ * force a rebuild. A step is therefore two launches on GPUs (three on CPU
+ * devices), the first nearly empty. With PF_INNER (CPU devices, a cutoff:
+ * dynamic pruning) the pair loop reads inner lists instead, each list's
+ * entries within PF_RI (the reach plus the inner skin) when last pruned,
+ * from XPRUNE; a move of half the inner skin from there raises the other
+ * bit of the request word, and the next step prunes every list again
+ * (pf_prune_row), as it does after a rebuild, a linked birth or a removal.
+ * The lists' layout and their builds are the step form's (cpu_lists.cl,
+ * gpu_lists.cl); births and removals edit them (births_removals.cl). */
+
+#define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
+#define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
+
+/* Cell coordinates of a point, clamped into the grid (a particle outside
+ * keeps its neighbours: they clamp to the same or an adjacent cell). */
+int4 pf_cell_of(float4 x, float4 origin, float4 inv_size, int4 dims) {
+  const int4 c = convert_int4_rtn((x - origin) * inv_size);
+  return clamp(c, (int4)(0), dims - (int4)(1));
+}
+
+uint pf_cell_index(int4 c, int4 dims) { return (uint)(c.x + dims.x * (c.y + dims.y * c.z)); }
+
+/* The particles a list build can read from a cell (counts: this step's
+ * set): its count, at most PF_CELL_CAP (a cell that overflowed sets the
+ * overflow bit in *bits). */
+uint pf_cell_listed(__global const uint* counts, uint cell, uint* bits) {
+  const uint m = counts[cell];
+  if (m > PF_CELL_CAP) *bits |= PF_OVERFLOW_BIT;
+  return min(m, PF_CELL_CAP);
+}
+
+/* Whether the cell at offset (ox, oy, oz) from particle i's own cell may
+ * hold a particle within PF_RL of it: `frac` is i's position within its
+ * cell (0..1 a side, in cell units), cell_inv the inverse cell edge. A cell
+ * whose nearest point is farther (a corner or edge cell when i sits near
+ * the opposite faces) is skipped: about a quarter of the 27. */
+bool pf_cell_in_reach(float4 frac, int ox, int oy, int oz, float cell_inv) {
+  const float gx = ox < 0 ? frac.x : ox > 0 ? 1.0f - frac.x : 0.0f;
+  const float gy = oy < 0 ? frac.y : oy > 0 ? 1.0f - frac.y : 0.0f;
+  const float gz = oz < 0 ? frac.z : oz > 0 ? 1.0f - frac.z : 0.0f;
+  const float gap2 = fmax(gx, 0.0f) * fmax(gx, 0.0f) + fmax(gy, 0.0f) * fmax(gy, 0.0f) + fmax(gz, 0.0f) * fmax(gz, 0.0f);
+  return gap2 < 1.0001f * PF_RL2 * cell_inv * cell_inv;
+}
+
+/* Lists every particle in this step's cells (count words from cell_base
+ * on), on the steps whose lists are rebuilt (force, or the last step
+ * raised request[request_read]). Also empties the cells the last step
+ * filled in the other set: by parity, touched[k] is the cell + 1 that
+ * particle k was first into (0: none) and touched_upto the particles the
+ * step listed (0 when it did not rebuild). */
+__kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint cell_base,
+                           const uint cells, __global uint* touched, __global uint* touched_upto,
+                           const uint touched_stride, const float4 cell_origin, const float4 cell_inv,
+                           const int4 cell_dims, const uint n, __global const uint* request, const uint request_read,
+                           const uint force) {
+  const uint i = get_global_id(0), items = get_global_size(0);
+  const uint now = cell_base == 0u ? 0u : 1u, other = 1u - now, other_base = cells - cell_base;
+  const uint rebuild = force || (request[request_read] & PF_REQUEST_REBUILD);
+  for (uint k = i; k < touched_upto[other]; k += items) {
+    const uint cell = touched[other * touched_stride + k];
+    if (cell != 0u) counts[other_base + cell - 1u] = 0u;
+  }
+  if (i == 0u) touched_upto[now] = rebuild ? n : 0u;
+  if (!rebuild) return;
+  for (uint k = i; k < n; k += items) { /* CPU devices launch a few items a core: most steps return at once */
+    const float4 x = X[k];
+    const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims);
+    const uint count = atomic_inc(&counts[cell_base + cell]);
+    touched[now * touched_stride + k] = count == 0u ? cell + 1u : 0u;
+    if (count < PF_CELL_CAP) {
+      __global float* block = slots + cell * PF_BLOCK;
+      block[PF_SLOT(count, 0u)] = x.x;
+      block[PF_SLOT(count, 1u)] = x.y;
+      block[PF_SLOT(count, 2u)] = x.z;
+      block[PF_SLOT(count, 3u)] = x.w;
+      block[PF_SLOT(count, 4u)] = as_float(k);
+    }
+  }
+}
+
+/* For tests: the indices of each particle's neighbours (pairs the step
+ * considers: d^2 < max(rc^2, (r_i + r_j)^2)), at most max_out each. */
+__kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const float* slots,
+                              const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
+                              const uint n, __global uint* out_count, __global uint* out, const uint max_out) {
+  const uint i = get_global_id(0);
+  if (i >= n) return;
+  const float4 xi = X[i];
+  const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
+  uint found = 0;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int4 cc = c + (int4)(dx, dy, dz, 0);
+        if (any(cc.xyz < (int3)(0)) || any(cc.xyz >= cell_dims.xyz)) continue;
+        const uint cell = pf_cell_index(cc, cell_dims);
+        const uint m = min(counts[cell_base + cell], PF_CELL_CAP);
+        for (uint k = 0; k < m; ++k) {
+          const uint j = as_uint(slots[cell * PF_BLOCK + PF_SLOT(k, 4u)]);
+          if (j == i) continue;
+          const float4 xj = X[j];
+          float4 d = xi - xj;
+          d.w = 0.0f;
+          const float rs = xi.w + xj.w;
+          if (dot(d, d) < fmax(PF_RC2, rs * rs)) {
+            if (found < max_out) out[i * max_out + found] = j;
+            ++found;
+          }
+        }
+      }
+  out_count[i] = found;
+}
+

@@ -1,0 +1,269 @@
+/* cpu_lists.cl: the CPU form's neighbour lists (after cells.cl and
+ * x86.cl): the rows' layout, the list build from a cell's stencil, and
+ * dynamic pruning into inner lists.
+ *
+ * Each list row is contiguous (PF_LIST_CAP entries), read 8 entries at a
+ * time as float8 vectors. PF_ROW(list, i) is particle i's row, PF_AT(row,
+ * k) its entry k; capacities are multiples of 8 entries. */
+#define PF_ROW(list, i) ((list) + (size_t)(i) * PF_LIST_CAP)
+#define PF_AT(row, k) ((row)[k])
+
+/* With PF_NEWTON the rows of each block are packed one after the other
+ * at a rebuild, each with PF_ROW_SLACK entries of room for linked births
+ * after it (pair_forces): spans[i] = (the row's first word, its room, at
+ * most PF_LIST_CAP), and PF_LIST_ROW is the row; without, PF_ROW. A
+ * block's rows fit in its PF_ROW_STRIDE words a particle. */
+#define PF_ROW_SLACK 8u
+#define PF_ROW_STRIDE (PF_LIST_CAP + PF_ROW_SLACK)
+#if PF_NEWTON
+#define PF_LIST_ROW(list, spans, i) ((list) + (spans)[i].x)
+#else
+#define PF_LIST_ROW(list, spans, i) PF_ROW(list, i)
+#endif
+
+/* A row entry names neighbour j by the byte offset of its float4 (16 j,
+ * so at most 2^27 particles: the AVX-512 gathers read the offsets as
+ * signed), which the pair loop adds to X, V or F as it is (x86 scales an
+ * index by at most 8: a plain index costs a shift a lane). PF_LOAD_AT /
+ * PF_REF_AT: the float4 of an entry, read-only or to update. */
+#define PF_ENTRY(j) ((j) << 4)
+#define PF_LOAD_AT(base, e) (*(__global const float4*)((__global const uchar*)(base) + (e)))
+#define PF_REF_AT(base, e) (*(__global float4*)((__global uchar*)(base) + (e)))
+
+/* The float4s of X at row entries row[0..7] (PF_ENTRY) as lane vectors.
+ * The entries are read from memory as scalars: taking them out of a
+ * vector costs more instructions. */
+void pf_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
+  float4 p[8];
+#pragma unroll
+  for (uint l = 0; l < 8u; ++l) p[l] = PF_LOAD_AT(X, row[l]);
+  pf_transpose8(p, x, y, z, w);
+}
+
+#if defined(PF_X86_AVX512)
+/* One float of the float4s at 8 row entries (byte offsets, so scale 1),
+ * `offset` bytes into each, by a hardware gather. The builtin takes a
+ * private pointer; PoCL on a CPU has one flat address space, so the
+ * global address passes through an integer. */
+float8 pf_gather_component8(__global const float4* X, int8 entries, uint offset) {
+  return __builtin_ia32_gather3siv8sf((float8)(0.0f), (const void*)((size_t)X + offset), entries, (uchar)0xff, 1);
+}
+#endif
+
+/* pf_gather8 for the row loop (pf_row_forces): with
+ * AVX-512, hardware gathers of one component each. They take fewer
+ * instructions than the loads and transposes, and long rows hide their
+ * latency. The pair queue's short rows do not, so it keeps pf_gather8
+ * (measured: see the commit messages and bench/results). w: 0 where the
+ * caller needs no w. */
+void pf_row_gather8(__global const float4* X, __global const uint* row, float8* x, float8* y, float8* z, float8* w) {
+#if defined(PF_X86_AVX512)
+  const int8 e = vload8(0, (__global const int*)row);
+  *x = pf_gather_component8(X, e, 0u);
+  *y = pf_gather_component8(X, e, 4u);
+  *z = pf_gather_component8(X, e, 8u);
+  if (w) *w = pf_gather_component8(X, e, 12u);
+#else
+  float8 unused;
+  pf_gather8(X, row, x, y, z, w ? w : &unused);
+#endif
+}
+/* Sorts a list row (or a piece of one) by index (see pf_build_list). */
+void pf_sort_row(__global uint* row, uint count) {
+  for (uint k = 1; k < count; ++k) {
+    const uint v = PF_AT(row, k);
+    uint m = k;
+    for (; m > 0 && PF_AT(row, m - 1) > v; --m) PF_AT(row, m) = PF_AT(row, m - 1);
+    PF_AT(row, m) = v;
+  }
+}
+
+/* The entries of the lanes where `hit` is set, in lane order, stored
+ * from row[found] on (none at or past PF_LIST_CAP). With AVX-512 they are
+ * packed in a register and stored as one vector, padded with `pad` (an
+ * entry of the row's own particle: a row holds entries only). */
+void pf_store_hits8(__global uint* row, uint found, uint8 entries, int8 hit, uint pad) {
+#if defined(PF_MASK8)
+  if (found + 8u <= PF_LIST_CAP) {
+    vstore8(PF_PACK8U(entries, (uint8)(pad), PF_MASK8(hit)), 0, row + found);
+    return;
+  }
+#endif
+  uint e[8];
+  int h[8];
+  vstore8(entries, 0, e);
+  vstore8(hit, 0, h);
+  for (uint l = 0; l < 8u; ++l) {
+    if (h[l] == 0) continue;
+    if (found < PF_LIST_CAP) PF_AT(row, found) = e[l];
+    ++found;
+  }
+}
+
+/* pf_store_hits8 into private memory (room for 8 words from `found` on). */
+void pf_store_hits8_private(uint* row, uint found, uint8 entries, int8 hit, uint pad) {
+#if defined(PF_MASK8)
+  vstore8(PF_PACK8U(entries, (uint8)(pad), PF_MASK8(hit)), 0, row + found);
+#else
+  uint e[8];
+  int h[8];
+  vstore8(entries, 0, e);
+  vstore8(hit, 0, h);
+  for (uint l = 0; l < 8u; ++l)
+    if (h[l] != 0) row[found++] = e[l];
+#endif
+}
+
+/* Dynamic pruning (EngineParams::inner_lists): particle i's inner list,
+ * the entries of its list within PF_RI (the reach plus the inner skin) of
+ * it now, written to `inner`; returns their count. A particle that then
+ * moves half the inner skin makes the next step prune again, so no pair
+ * left out comes within reach before that, and no pair closes in by more
+ * than the inner skin. So the entries come in two runs, each in the
+ * list's order: first those that may touch i before the next pruning
+ * (closer than their touch distance max(r_i + r_j, rest) plus the inner
+ * skin; *touching: how many), then those that cannot. pf_row_forces runs
+ * the contact code only on the first run's chunks: its branch on contacts
+ * no longer goes one way or the other by chance. */
+uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __global const float4* X,
+                  __global uint* inner, uint* touching) {
+  uint near_count = 0u, apart_count = 0u;
+  uint apart[PF_LIST_CAP + 8u];
+  for (uint k = 0; k < count; k += 8u) {
+    float8 dx, dy, dz, rs;
+    pf_gather8(X, row + k, &dx, &dy, &dz, &rs); /* (here faster than the hardware gathers) */
+    dx = xi.x - dx;
+    dy = xi.y - dy;
+    dz = xi.z - dz;
+    const float8 d2 = dx * dx + dy * dy + dz * dz;
+    const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
+    const int8 within = (lane < (int8)((int)count)) & (d2 < PF_RI2);
+    /* (1 + 1e-5: the rounding of the square, on the safe side) */
+    const float8 reach = fmax(rs + xi.w, PF_CONTACT) + PF_INNER_SKIN;
+    const int8 near = within & (d2 < reach * reach * 1.00001f);
+    const uint8 entries = vload8(0, row + k);
+    pf_store_hits8(inner, near_count, entries, near, PF_ENTRY(i));
+    near_count += pf_count8(near);
+    pf_store_hits8_private(apart, apart_count, entries, within & ~near, PF_ENTRY(i));
+    apart_count += pf_count8(within & ~near);
+  }
+  *touching = near_count;
+  __global uint* rest = inner + near_count;
+#if defined(PF_MASK8)
+  /* whole chunks (a row has 8 words of room past its end), padded with i
+   * as the list's rows are: the pair loop reads the words past the count */
+  vstore8((uint8)(PF_ENTRY(i)), 0, apart + apart_count);
+  for (uint k = 0; k < apart_count; k += 8u) vstore8(vload8(0, apart + k), 0, rest + k);
+#else
+  for (uint k = 0; k < apart_count; ++k) rest[k] = apart[k];
+#endif
+  return near_count + apart_count;
+}
+
+/* The candidates of the CPU form's list builds for the particles of one
+ * cell: the particles of the cells of its stencil, copied once for the run
+ * of consecutive particles in that cell (as the particles lie after
+ * Engine::sort_by_cells) into contiguous arrays, so that each particle's
+ * build is one pass of 8-lane loads over them. With PF_NEWTON the stencil
+ * is half: the cell itself (its particles first, [0, own), partners j > i
+ * only) and the 13 cells after it in (z, y, x) order, so a pair of cells
+ * meets once; without, all 27 in (z, y, x) order. Each cell's particles are
+ * sorted by index (the cells hold them in the order of their atomic
+ * insertions, which varies run to run on a multi-threaded device), so the
+ * rows come out in one order and the same input gives the same particles. */
+#if PF_NEWTON
+#define PF_STENCIL_CELLS 14u
+#else
+#define PF_STENCIL_CELLS 27u
+#endif
+#define PF_STENCIL_CAP (PF_STENCIL_CELLS * PF_CELL_CAP + 8u) /* 8 lanes of slack past the last */
+typedef struct {
+  float x[PF_STENCIL_CAP], y[PF_STENCIL_CAP], z[PF_STENCIL_CAP];
+  uint e[PF_STENCIL_CAP]; /* as row entries (PF_ENTRY) */
+  uint count, own;        /* candidates; the cell's own ones ([0, own)) */
+  uint cell;              /* whose stencil (UINT_MAX: none yet) */
+  uint bits;              /* the overflow bit, where a cell of the stencil overflowed */
+} pf_stencil;
+
+/* Copies cell `cell`'s listed particles to the end of st's candidates, in index order. */
+void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const float* slots, uint cell) {
+  const uint m = pf_cell_listed(counts, cell, &st->bits), at = st->count;
+  __global const float* block = slots + cell * PF_BLOCK;
+  for (uint k = 0; k < m; k += 8u) { /* whole chunks; the lanes past m are overwritten or never read */
+    __global const float* chunk = block + 5u * k;
+    vstore8(vload8(0, chunk), 0, st->x + at + k);
+    vstore8(vload8(1, chunk), 0, st->y + at + k);
+    vstore8(vload8(2, chunk), 0, st->z + at + k);
+    vstore8(as_uint8(vload8(4, chunk)) << 4u, 0, st->e + at + k);
+  }
+  for (uint k = at + 1u; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
+    const uint e = st->e[k];
+    const float x = st->x[k], y = st->y[k], z = st->z[k];
+    uint q = k;
+    for (; q > at && st->e[q - 1u] > e; --q) {
+      st->e[q] = st->e[q - 1u];
+      st->x[q] = st->x[q - 1u];
+      st->y[q] = st->y[q - 1u];
+      st->z[q] = st->z[q - 1u];
+    }
+    st->e[q] = e;
+    st->x[q] = x;
+    st->y[q] = y;
+    st->z[q] = z;
+  }
+  st->count = at + m;
+}
+
+/* st becomes the stencil of the cell at coordinates c. */
+void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c,
+                       int4 cell_dims) {
+  st->count = 0u;
+  st->bits = 0u;
+  st->cell = pf_cell_index(c, cell_dims);
+  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
+#if PF_NEWTON
+  pf_stencil_add(st, counts, slots, st->cell);
+  st->own = st->count;
+  for (int cz = c.z; cz <= hi.z; ++cz)
+    for (int cy = cz == c.z ? c.y : lo.y; cy <= hi.y; ++cy)
+      for (int cx = cz == c.z && cy == c.y ? c.x + 1 : lo.x; cx <= hi.x; ++cx)
+        pf_stencil_add(st, counts, slots, pf_cell_index((int4)(cx, cy, cz, 0), cell_dims));
+#else
+  st->own = 0u;
+  for (int cz = lo.z; cz <= hi.z; ++cz)
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx)
+        pf_stencil_add(st, counts, slots, pf_cell_index((int4)(cx, cy, cz, 0), cell_dims));
+#endif
+}
+
+/* Rebuilds particle i's neighbour list from its cell's stencil: the
+ * candidates j != i with |x_i - x_j|^2 < PF_RL2 (with PF_NEWTON, of the
+ * cell's own particles only those with j > i), in the stencil's order.
+ * Returns the count (capped at PF_LIST_CAP; more set the overflow bit in
+ * *bits, as does a stencil cell that overflowed). */
+uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global uint* row, uint* bits) {
+  uint found = 0u;
+  const uint8 ei = (uint8)(PF_ENTRY(i));
+  for (uint k = 0; k < st->count; k += 8u) {
+    const float8 dx = xi.x - vload8(0, st->x + k), dy = xi.y - vload8(0, st->y + k), dz = xi.z - vload8(0, st->z + k);
+    const uint8 e = vload8(0, st->e + k);
+    const uint8 lane = (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u) + (uint8)(k);
+#if PF_NEWTON
+    const int8 partner = lane >= (uint8)(st->own) | e > ei;
+#else
+    const int8 partner = e != ei;
+#endif
+    const int8 near = (lane < (uint8)(st->count)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
+    /* no branch on whether any lane hit: at rc = 2.5 sigma about half the
+     * chunks do, at random, and the mispredictions cost more than a store */
+    pf_store_hits8(row, found, e, near, PF_ENTRY(i));
+    found += pf_count8(near);
+  }
+  *bits |= st->bits;
+  if (found > PF_LIST_CAP) {
+    *bits |= PF_OVERFLOW_BIT;
+    found = PF_LIST_CAP;
+  }
+  return found;
+}

@@ -1,0 +1,64 @@
+// The neighbour grid's device buffers (see cell_grid.hpp).
+#include "engine/cell_grid.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "pfill/device/device_error.hpp"
+#include "pfill/error.hpp"
+
+namespace pfill {
+
+CellGrid::CellGrid(Device& device, double cell_size, size_t cell_capacity)
+    : device_(device), cell_size_(cell_size), cell_capacity_(cell_capacity) {
+  touched_upto = device_.make_buffer(2 * sizeof(cl_uint), "cells to empty");
+}
+
+void CellGrid::set_domain(const Box3& box) {
+  const double cs = cell_size_;
+  int d[3];
+  double total = 1;
+  for (int a = 0; a < 3; ++a) {
+    d[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
+    total *= d[a];
+  }
+  if (total * cell_capacity_ * 5 > 1.5e9)
+    throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
+                " cells; use a larger radius or a smaller domain");
+  const double lo[3] = {box.lo.x, box.lo.y, box.lo.z};
+  for (int a = 0; a < 3; ++a) {
+    origin.s[a] = static_cast<float>(lo[a]);
+    inv.s[a] = static_cast<float>(1 / cs);
+    dims.s[a] = d[a];
+  }
+  origin.s[3] = inv.s[3] = 0.0f;
+  dims.s[3] = 0;
+  total_ = static_cast<size_t>(total);
+  counts = device_.make_buffer(2 * total_ * sizeof(cl_uint), "cell counts");
+  const size_t slot_bytes = total_ * 5 * cell_capacity_ * sizeof(cl_float);
+  slots = device_.make_buffer(slot_bytes, "cell slots");
+  // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
+  check_cl(device_.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer", "cell slots");
+  clear();
+  has_domain_ = true;
+}
+
+void CellGrid::reserve(size_t cap) {
+  touched = device_.make_buffer(2 * cap * sizeof(cl_uint), "cells first into");
+  if (has_domain_) clear();  // the cells the last step filled were listed in the old `touched`
+}
+
+void CellGrid::clear() {
+  check_cl(device_.queue().enqueueFillBuffer(counts, cl_uint(0), 0, 2 * total_ * sizeof(cl_uint)),
+           "clEnqueueFillBuffer", "cell counts");
+  check_cl(device_.queue().enqueueFillBuffer(touched_upto, cl_uint(0), 0, 2 * sizeof(cl_uint)),
+           "clEnqueueFillBuffer", "cells to empty");
+}
+
+void CellGrid::require_domain() const {
+  if (!has_domain_)
+    throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");
+}
+
+}  // namespace pfill

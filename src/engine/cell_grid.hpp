@@ -1,0 +1,46 @@
+// The neighbour grid on the device (kernels/cells.cl): its geometry, two
+// sets of count words taken in turn by the step's parity, the slots, and
+// by parity the cell each particle was first into and how many particles
+// were listed, which the next step empties.
+#pragma once
+#include <CL/opencl.hpp>
+
+#include <cstdint>
+
+#include "pfill/device/device.hpp"
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+class CellGrid {
+ public:
+  CellGrid(Device& device, double cell_size, size_t cell_capacity);
+
+  /// The grid over `box`: cells of edge exactly the cell size (the grid
+  /// may reach a little past the box; particles outside clamp in), empty.
+  void set_domain(const Box3& box);
+  /// Room for `cap` particles' first-into words (empties the cells).
+  void reserve(size_t cap);
+  /// Both sets of counts empty, and nothing left for a step to empty.
+  void clear();
+  /// Throws unless set_domain was called.
+  void require_domain() const;
+  bool has_domain() const { return has_domain_; }
+
+  /// Step `steps`'s set of count words: its first word.
+  cl_uint base(uint64_t steps) const { return static_cast<cl_uint>((steps % 2) * total_); }
+  cl_uint total() const { return static_cast<cl_uint>(total_); }
+
+  cl_float4 origin{}, inv{};  // the grid's corner; 1 / cell edge
+  cl_int4 dims{};
+  cl::Buffer counts, slots, touched, touched_upto;
+
+ private:
+  Device& device_;
+  double cell_size_;
+  size_t cell_capacity_;
+  size_t total_ = 0;
+  bool has_domain_ = false;
+};
+
+}  // namespace pfill
