@@ -21,7 +21,7 @@ json_alone fill.json || fail "fill --json: stdout is not one JSON document: $(he
 [ "$(particles_of fill.json)" -gt 100 ] || fail "fill --json: no particle count: $(head -c 300 fill.json)"
 grep -q "pfill: filling" fill.err || fail "fill --json: progress should stay on stderr"
 # --report -: the same document on stdout.
-"$pfill" fill sphere -n 150 -q -o s2.ply --report - > report.json || fail "fill --report -"
+"$pfill" fill sphere -n 150 --max-overlap 0.05 -q -o s2.ply --report - > report.json || fail "fill --report -"
 json_alone report.json || fail "--report -: stdout is not one JSON document"
 [ "$(particles_of report.json)" = "$(particles_of fill.json)" ] || fail "--report - and --json differ"
 [ ! -e ./- ] || fail "--report - wrote a file named '-'"

@@ -10,6 +10,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <cctype>
 #include <cstring>
 #include <fstream>
 #include <map>
@@ -264,7 +265,11 @@ Mesh load_with_assimp(const std::string& path) {
   {  // assimp's PLY reader trusts its input; check PLY files (found by content, as assimp finds them) first
     std::ifstream in(path, std::ios::binary);
     char magic[3] = {};
-    if (in.read(magic, 3) && std::memcmp(magic, "ply", 3) == 0) detail::check_ply_structure(path);
+    // assimp takes "pLy" for PLY too, and its reader spins forever on such
+    // a truncated header (the fuzz loop found "pLy\nformat ascii 1.0\ncomment wri").
+    const bool ply_magic = in.read(magic, 3) && std::tolower(magic[0]) == 'p' && std::tolower(magic[1]) == 'l' &&
+                           std::tolower(magic[2]) == 'y';
+    if (ply_magic || detail::lower_extension(path) == ".ply") detail::check_ply_structure(path);
   }
   Assimp::Importer importer;
   Vec3 shift;
