@@ -152,6 +152,7 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
            {"passes", passes},
            {"packing_fraction", m.packing_fraction},
            {"max_overlap", m.max_overlap},
+           {"largest_hole", m.largest_hole},
            {"contained_share", m.contained_share},
            {"max_penetration", m.max_penetration},
            {"max_parts", r.max_parts},
@@ -214,8 +215,8 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
   std::printf("scale: %s, sites %s, birth every %s\n", c.name.c_str(),
               sites >= 0 ? std::to_string(sites).c_str() : "auto",
               birth_every ? std::to_string(birth_every).c_str() : "auto");
-  std::printf("| -n | spheres | time s | CPU s | field s | pass 1 steps (s) | settle steps | relief steps (s) | voids steps (s) "
-              "| packing | largest overlap | inside | peak RSS |\n");
+  std::printf("| -n | spheres | time s | CPU s | field s | pass 1 steps (s) | settle steps | finish steps (s) "
+              "| packing | largest overlap | largest hole | inside | peak RSS |\n");
   std::printf("| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |\n");
   std::fflush(stdout);
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
@@ -227,12 +228,12 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
       std::printf("| %zu | failed: %s |\n", n, j["error"].get<std::string>().c_str());
       continue;
     }
-    std::printf("| %zu | %zu | %.1f | %.1f | %.1f | %.0f (%.1f) | %.0f | %.0f (%.1f) | %.0f (%.1f) | %.4f | %.2f%% r | %.2f%% | %.0f MiB |\n",
+    std::printf("| %zu | %zu | %.1f | %.1f | %.1f | %.0f (%.1f) | %.0f | %.0f (%.1f) | %.4f | %.3f%% r | %.2f r | %.2f%% | %.0f MiB |\n",
                 n, j["count"].get<size_t>(), j["seconds"].get<double>(), j["cpu_seconds"].get<double>(),
                 j["field_seconds"].get<double>(),
-                pass_steps(j, "pass 1"), pass_seconds(j, "pass 1"), pass_steps(j, "settle"), pass_steps(j, "relief"),
-                pass_seconds(j, "relief"), pass_steps(j, "voids"), pass_seconds(j, "voids"),
-                j["packing_fraction"].get<double>(), 100 * j["max_overlap"].get<double>(),
+                pass_steps(j, "pass 1"), pass_seconds(j, "pass 1"), pass_steps(j, "settle"), pass_steps(j, "finish"),
+                pass_seconds(j, "finish"), j["packing_fraction"].get<double>(), 100 * j["max_overlap"].get<double>(),
+                j["largest_hole"].get<double>(),
                 100 * j["contained_share"].get<double>(), j["peak_rss_mib"].get<double>());
     std::fflush(stdout);
     xs.push_back(std::log(static_cast<double>(n)));
