@@ -9,6 +9,7 @@
 #include <limits>
 #include <random>
 
+#include "load_error.hpp"
 #include "mesh_writers.hpp"
 #include "pfill/error.hpp"
 #include "pfill/mesh_io.hpp"
@@ -18,19 +19,6 @@ using namespace pfill;
 using namespace pfill::test;
 
 namespace {
-
-// The error message of load_mesh(path), or "" when it loads; any exception
-// other than pfill::Error fails the test.
-std::string load_error(const std::string& path) {
-  try {
-    load_mesh(path);
-  } catch (const Error& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    FAIL("not a pfill::Error: " << e.what());
-  }
-  return "";
-}
 
 void check_error(const std::string& path, const std::string& problem) {
   const std::string message = load_error(path);

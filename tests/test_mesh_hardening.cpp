@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "bad_meshes.hpp"
+#include "load_error.hpp"
 #include "mesh_writers.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/error.hpp"
@@ -21,14 +22,6 @@ using namespace pfill::test;
 
 namespace {
 
-std::string load_error(const std::string& path) {
-  try {
-    load_mesh(path);
-  } catch (const Error& e) {
-    return e.what();
-  }
-  return "";
-}
 
 }  // namespace
 

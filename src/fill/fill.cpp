@@ -30,6 +30,7 @@
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/sdf.hpp"
 #include "fill/finish.hpp"
+#include "fill/particle_set_of.hpp"
 
 namespace pfill {
 namespace {
@@ -48,6 +49,19 @@ constexpr int kWaveEvery = 48;
 // 8.2 s against 12.9 s; the bunny 11 s against 19 s).
 constexpr size_t kWavesFrom = 2000;
 
+// The radius of a fill of `volume`: -r, or the one that gives about -n
+// particles. Particles keep the rest distance apart, so with a count the
+// spacing, not the sphere, is what must fit (the report's Fig. 4).
+double particle_radius(const FillOptions& o, double volume) {
+  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+}
+
+// About how many particles fill `volume` when they keep `half_rest` (half
+// the rest distance) from each other.
+double expected_count(double volume, double half_rest) {
+  return kExpectedPacking * volume / (4.0 / 3.0 * kPi * half_rest * half_rest * half_rest);
+}
+
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
@@ -58,22 +72,12 @@ std::string fmt(double v) {
   return b;
 }
 
-ParticleSet to_particle_set(const std::vector<Particle>& ps) {
-  ParticleSet set;
-  set.positions.reserve(ps.size());
-  set.radii.reserve(ps.size());
-  for (const Particle& p : ps) {
-    set.positions.push_back(p.position);
-    set.radii.push_back(p.radius);
-    set.velocities.push_back(p.velocity);  // written with --velocities
-    set.ids.push_back(p.id);
-  }
-  return set;
-}
 
 class FillRun {
  public:
-  FillRun(const Mesh& mesh, const FillOptions& options) : mesh_(mesh), o_(options), rng_(options.seed) {}
+  /// `diagnostics`: diagnose(mesh), which the caller has already needed.
+  FillRun(const Mesh& mesh, const MeshDiagnostics& diagnostics, const FillOptions& options)
+      : mesh_(mesh), diagnostics_(diagnostics), o_(options), rng_(options.seed) {}
 
   FillResult run() {
     prepare();
@@ -91,7 +95,7 @@ class FillRun {
   // ---- prepare: geometry, radius, field, sites, engine ----
   void prepare() {
     check_options();
-    const MeshDiagnostics d = diagnose(mesh_);
+    const MeshDiagnostics& d = diagnostics_;
     if (d.boundary_edges > 0)
       result_.warnings.push_back("the mesh is open (" + std::to_string(d.boundary_loops) +
                                  " holes): inside is decided by a majority of rays; particles near the holes may "
@@ -103,12 +107,9 @@ class FillRun {
     volume_ = d.volume();
     if (!(volume_ > 0)) throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
 
-    // Particles keep the rest distance apart, so with a count the spacing,
-    // not the sphere, is what must fit (the report's Fig. 4).
-    radius_ = o_.radius > 0 ? o_.radius : fill_radius_for_count(volume_, o_.count) / o_.rest_distance;
+    radius_ = particle_radius(o_, volume_);
     if (!(radius_ > 0)) throw Error("give a particle radius (-r) or a count (-n)");
-    const double spacing = radius_ * o_.rest_distance;  // half the rest distance
-    const double expected = kExpectedPacking * volume_ / (4.0 / 3.0 * kPi * spacing * spacing * spacing);
+    const double expected = expected_count(volume_, radius_ * o_.rest_distance);
     if (expected > kMaxParticles)
       throw Error("a radius of " + fmt(radius_) + " would give about " + fmt(expected) +
                   " particles, more than pfill handles (" + fmt(kMaxParticles) +
@@ -608,6 +609,7 @@ class FillRun {
   static constexpr double kAfterStepCost = 1.2;
 
   Mesh mesh_;
+  MeshDiagnostics diagnostics_;
   FillOptions o_;
   std::mt19937_64 rng_;
   std::uniform_real_distribution<double> speed_{0, 1};
@@ -662,9 +664,8 @@ namespace {
 
 // "No particle fits", with the mesh's depth measured on a field of 64
 // samples across, and the way out that fits the options given.
-std::string no_room_message(const Mesh& mesh, const FillOptions& o) {
-  const double volume = diagnose(mesh).volume();
-  const double radius = o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+std::string no_room_message(const Mesh& mesh, double volume, const FillOptions& o) {
+  const double radius = particle_radius(o, volume);
   const Boundary boundary(mesh);
   SdfOptions so(spacing_for_resolution(mesh.bounds(), 64));
   so.band = std::numeric_limits<double>::infinity();
@@ -680,13 +681,12 @@ std::string no_room_message(const Mesh& mesh, const FillOptions& o) {
 // radius (a stray vertex far from the rest makes one) would build a field
 // of billions of samples or fill nothing: say which vertex lies farthest
 // from the median of all, and stop.
-void refuse_stray_vertices(const Mesh& mesh, const FillOptions& o) {
-  const double volume = diagnose(mesh).volume();
-  const double radius = o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+void refuse_stray_vertices(const Mesh& mesh, double volume, const FillOptions& o) {
+  const double radius = particle_radius(o, volume);
   if (!(radius > 0) || mesh.positions.empty()) return;
   // Too many particles is the first thing to say (the run's check says it).
   const double half_rest = radius * o.rest_distance;
-  if (o.count > kMaxParticles || kExpectedPacking * volume / (4.0 / 3.0 * kPi * std::pow(half_rest, 3)) > kMaxParticles)
+  if (o.count > kMaxParticles || expected_count(volume, half_rest) > kMaxParticles)
     return;
   const Vec3 size = mesh.bounds().size();
   const double spacing = o.field_spacing * radius, margin = 2 * radius + 3 * spacing;
@@ -730,8 +730,9 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
       for (Vec3& p : moved.positions) p += centre;
       options.on_frame(step, moved);
     };
-  refuse_stray_vertices(mesh, options);
-  FillRun run(local, o);
+  const MeshDiagnostics d = diagnose(local);  // once: the winding-number sweep takes a while on big meshes
+  refuse_stray_vertices(mesh, d.volume(), options);
+  FillRun run(local, d, o);
   FillResult result;
   try {
     result = run.run();
@@ -739,13 +740,12 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
     // The run's field is as coarse as the radius is large: measure the
     // depth on a fine field before saying that no particle fits.
     if (std::string(e.what()).rfind("no particle of radius", 0) != 0) throw;
-    throw Error(no_room_message(local, o));
+    throw Error(no_room_message(local, d.volume(), o));
   }
   for (Vec3& p : result.particles.positions) p += centre;
   for (BirthSite& site : result.sites) site.position += centre;
 
   const std::string name = mesh.source.empty() ? std::string("the mesh") : mesh.source;
-  const MeshDiagnostics d = diagnose(local);
   if (d.overlapping())
     result.warnings.push_back(
         std::string(d.components > 1 ? "parts of the mesh intersect or lie inside one another"

@@ -16,6 +16,7 @@
 // The device runs the relaxation; the host reads the step history every
 // `chunk_steps` steps (a few scalars) and the positions once a relaxation.
 #include "fill/finish.hpp"
+#include "fill/particle_set_of.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -28,17 +29,11 @@
 namespace pfill {
 namespace {
 
+/// The engine's particles at the true radius (the engine's are smaller by
+/// half the bound).
 ParticleSet to_set(const std::vector<Particle>& ps, double radius) {
-  ParticleSet set;
-  set.positions.reserve(ps.size());
+  ParticleSet set = to_particle_set(ps);
   set.radii.assign(ps.size(), radius);
-  set.ids.reserve(ps.size());
-  set.velocities.reserve(ps.size());
-  for (const Particle& p : ps) {
-    set.positions.push_back(p.position);
-    set.ids.push_back(p.id);
-    set.velocities.push_back(p.velocity);
-  }
   return set;
 }
 
