@@ -19,24 +19,11 @@ PF_DEFINE_POW_HALF(pf_pow_half8, float8)
 PF_DEFINE_APART(pf_apart8, float8, int8)
 PF_DEFINE_CONTACT_DAMPING(pf_contact_damping8, float8, pf_rsqrt8)
 
-/* pf_lj_force_scale of physics.cl for 8 pairs at once, given 1/d^2 and
- * 1/d, with the prelude's constants: the same powers (pf_pow_half8), with
- * the divisions shared, and for a = 2b the combination rearranged (the
- * oracle tests tie it to physics.cl's). */
+/* physics.cl's Lennard-Jones force scale for 8 pairs, given 1/d^2 and 1/d, with the prelude's constants. */
+PF_DEFINE_LJ_FORCE_SCALE(pf_lj_force_scale_inv8, float8, pf_pow_half8)
 float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d) {
-  const float8 x = PF_SIGMA2 * inv_d2;
-  const float8 sb = pf_pow_half8(x, PF_EXP_B, PF_EXP_B_HALF);
-#if PF_EXP_B_HALF > 0 && PF_EXP_A_HALF == 2 * PF_EXP_B_HALF
-  /* a = 2b (12-6): 4 eps (a sb - b) sb / d^2, two multiplies fewer on the
-   * dependency chain from d^2 to the force than the general form */
-  const float8 k = (4.0f * PF_EPS * PF_EXP_A * sb - 4.0f * PF_EPS * PF_EXP_B) * (sb * inv_d2);
-#else
-  const float8 sa = pf_pow_half8(x, PF_EXP_A, PF_EXP_A_HALF);
-  const float8 k = 4.0f * PF_EPS * (PF_EXP_A * sa - PF_EXP_B * sb) * inv_d2;
-#endif
-  const float8 k_max = PF_FORCE_CAP * inv_d;
-  /* compares, not fmin / fmax: k is never NaN, and PoCL's fmin handles NaNs */
-  return select(select(k, k_max, k > k_max), -k_max, k < -k_max);
+  return pf_lj_force_scale_inv8(inv_d2, inv_d, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF,
+                                PF_FORCE_CAP);
 }
 
 /* The `valid` lanes' entries jj into the running lowest and highest. */

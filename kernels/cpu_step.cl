@@ -17,6 +17,9 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
 /* physics.cl's rules at 8 lanes. */
 PF_DEFINE_KICK_DRIFT(pf_kick_drift8, float8)
 PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change8, float8)
+#define PF_SAMPLE8(PX, PY, PZ, G) pf_field_sample8(sdf, sdf_dims, sdf_origin, PX, PY, PZ, G)
+PF_DEFINE_WALL_PUSH(pf_wall_push8, float8, int8, pf_any8, PF_SAMPLE8, pf_wall_velocity_change8, PF_FIELD_ARG sdf,
+                    float4 sdf_origin, int4 sdf_dims)
 
 /* Eight lanes' new state: position p, velocity u, wall clearance, and
  * which lanes the wall found outside. */
@@ -39,35 +42,8 @@ pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sd
   const int8 outside_box = grid_x < 0.0f | grid_y < 0.0f | grid_z < 0.0f | grid_x > (float)(sdf_dims.x - 1) |
                            grid_y > (float)(sdf_dims.y - 1) | grid_z > (float)(sdf_dims.z - 1);
   s.flagged = near & ((phi > 0.0f) | outside_box);
-  const int8 touching = near & (phi > -r);
-  if (pf_any8(touching)) {
-    int8 pushing = touching;
-    for (int it = 0; it < PF_WALL_ITERATIONS; ++it) {
-      pushing &= phi > -r;
-      const float8 gl = sqrt(pf_norm2_8(g[0], g[1], g[2]));
-      pushing &= gl > 1e-20f;
-      if (!pf_any8(pushing)) break;
-      const float8 push = (phi + r) / gl;
-      s.px = select(s.px, s.px - push * g[0], pushing);
-      s.py = select(s.py, s.py - push * g[1], pushing);
-      s.pz = select(s.pz, s.pz - push * g[2], pushing);
-      float8 h[3];
-      const float8 again = pf_field_sample8(sdf, sdf_dims, sdf_origin, s.px, s.py, s.pz, h);
-      phi = select(phi, again, pushing);
-      g[0] = select(g[0], h[0], pushing);
-      g[1] = select(g[1], h[1], pushing);
-      g[2] = select(g[2], h[2], pushing);
-    }
-    const float8 gl = sqrt(pf_norm2_8(g[0], g[1], g[2]));
-    const int8 turn = touching & (gl > 1e-20f);
-    const float8 safe_gl = select((float8)(1.0f), gl, turn);
-    const float8 nx = g[0] / safe_gl, ny = g[1] / safe_gl, nz = g[2] / safe_gl;
-    const float8 un = s.ux * nx + s.uy * ny + s.uz * nz;
-    const float8 dv = select((float8)(0.0f), pf_wall_velocity_change8(un, (float8)(PF_WALL_RESTITUTION)), turn);
-    s.ux += dv * nx;
-    s.uy += dv * ny;
-    s.uz += dv * nz;
-  }
+  phi = pf_wall_push8(&s.px, &s.py, &s.pz, &s.ux, &s.uy, &s.uz, phi, g, near & (phi > -r), r,
+                      (float8)(PF_WALL_RESTITUTION), sdf, sdf_origin, sdf_dims);
   s.clearance = select(s.clearance, select(fmax(-phi - r, 0.0f), (float8)(0.0f), outside_box), near);
   return s;
 }

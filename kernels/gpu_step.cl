@@ -9,6 +9,13 @@
  * (sampled only where the clearance bound runs out), the new state to
  * X_out and V_out, the list requests its drift raises. Returns its record.
  * The GPU form's; the CPU form's pf_advance8 does the same 8 at a time. */
+/* physics.cl's wall push for one particle. */
+#define PF_SAMPLE1(PX, PY, PZ, G)                                                                                 \
+  PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z, sdf_origin.w, PX, \
+                  PY, PZ, G)
+PF_DEFINE_WALL_PUSH(pf_wall_push, float, int, PF_ANY1, PF_SAMPLE1, pf_wall_velocity_change, PF_FIELD_ARG sdf,
+                    float4 sdf_origin, int4 sdf_dims)
+
 float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint rebuilt, uint pairs,
                     __global float4* X_out, __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims,
                     __global uint* flags, __global float* C, __global const float4* XREF, __global uint* request,
@@ -17,16 +24,14 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
   float ux = vi.x, uy = vi.y, uz = vi.z, px = xi.x, py = xi.y, pz = xi.z;
   const float speed =
       pf_kick_drift(&ux, &uy, &uz, &px, &py, &pz, force.x, force.y, force.z, inv_mi, PF_DT, PF_DAMP, PF_VMAX);
-  float4 u = (float4)(ux, uy, uz, 0.0f);
-  float4 xn = (float4)(px, py, pz, ri);
   const float capped_speed = speed > PF_VMAX ? PF_VMAX : speed; /* |u| now */
   if (sdf_dims.w != 0) {
     float clearance = fma(-2.0f * PF_DT, capped_speed, C[i]);
     if (clearance <= 0.0f) {
       float g[3];
       float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
-                                sdf_origin.w, xn.x, xn.y, xn.z, g);
-      const float4 grid_pos = (xn - sdf_origin) * sdf_origin.w;
+                                sdf_origin.w, px, py, pz, g);
+      const float4 grid_pos = ((float4)(px, py, pz, 0.0f) - sdf_origin) * sdf_origin.w;
       const int outside_box = grid_pos.x < 0.0f || grid_pos.y < 0.0f || grid_pos.z < 0.0f ||
                               grid_pos.x > (float)(sdf_dims.x - 1) || grid_pos.y > (float)(sdf_dims.y - 1) ||
                               grid_pos.z > (float)(sdf_dims.z - 1);
@@ -34,27 +39,14 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
         bits |= PF_FLAGGED_BIT;
         flags[i] = 1u;
       }
-      if (phi > -ri) {
-        for (int it = 0; it < PF_WALL_ITERATIONS && phi > -ri; ++it) {
-          const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-          if (!(gl > 1e-20f)) break;
-          const float push = (phi + ri) / gl;
-          xn.x -= push * g[0];
-          xn.y -= push * g[1];
-          xn.z -= push * g[2];
-          phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
-                              sdf_origin.w, xn.x, xn.y, xn.z, g);
-        }
-        const float gl = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        if (gl > 1e-20f) {
-          const float4 nrm = (float4)(g[0], g[1], g[2], 0.0f) / gl;
-          u += pf_wall_velocity_change(dot(u, nrm), PF_WALL_RESTITUTION) * nrm;
-        }
-      }
+      phi = pf_wall_push(&px, &py, &pz, &ux, &uy, &uz, phi, g, phi > -ri, ri, PF_WALL_RESTITUTION, sdf, sdf_origin,
+                         sdf_dims);
       clearance = outside_box ? 0.0f : fmax(-phi - ri, 0.0f);
     }
     C[i] = clearance;
   }
+  const float4 u = (float4)(ux, uy, uz, 0.0f);
+  const float4 xn = (float4)(px, py, pz, ri);
   X_out[i] = xn;
   V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
   if (pf_norm2(xn - XREF[i]) > PF_HALF_SKIN2) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);

@@ -53,17 +53,35 @@ PF_DEFINE_APART(pf_apart, PF_REAL, int)
  * distance d2 > 0 and squared cutoff rc2:
  *   u(d) = 4 eps [(sigma/d)^a - (sigma/d)^b] - u(rc)               d < rc
  *   F_i  = (4 eps / d^2) [a (sigma/d)^a - b (sigma/d)^b] (r_i - r_j)
- * Returns k with F_i = k (r_i - r_j) (F_j = -F_i), clamped so that
- * |F_i| <= force_cap; 0 at and beyond the cutoff. */
+ * PF_DEFINE_LJ_FORCE_SCALE's rule takes 1/d^2 and 1/d (the CPU form
+ * computes both beside each other, a shorter chain) and returns k with
+ * F_i = k (r_i - r_j) (F_j = -F_i), clamped so that |F_i| <= force_cap;
+ * for a = 2b (12-6) as 4 eps (a sb - b) sb / d^2, two multiplies fewer
+ * on the chain from d^2 to the force than the general form. POW_HALF is
+ * PF_DEFINE_POW_HALF's rule at the same width. Compares, not fmin / fmax:
+ * k is never NaN, and PoCL's fmin handles NaNs. */
+#define PF_DEFINE_LJ_FORCE_SCALE(NAME, T, POW_HALF)                                                        \
+  PF_FN T NAME(T inv_d2, T inv_d, PF_REAL sigma2, PF_REAL eps, PF_REAL a, PF_REAL b, int a_half, int b_half, \
+               PF_REAL force_cap) {                                                                         \
+    const T x = sigma2 * inv_d2;                                                                            \
+    const T sb = POW_HALF(x, b, b_half);                                                                    \
+    T k;                                                                                                    \
+    if (b_half > 0 && a_half == 2 * b_half) {                                                               \
+      k = ((PF_REAL)4 * eps * a * sb - (PF_REAL)4 * eps * b) * (sb * inv_d2);                               \
+    } else {                                                                                                \
+      const T sa = POW_HALF(x, a, a_half);                                                                  \
+      k = (PF_REAL)4 * eps * (a * sa - b * sb) * inv_d2;                                                    \
+    }                                                                                                       \
+    const T k_max = force_cap * inv_d;                                                                      \
+    return select(select(k, k_max, k > k_max), -k_max, k < -k_max);                                        \
+  }
+PF_DEFINE_LJ_FORCE_SCALE(pf_lj_force_scale_inv, PF_REAL, pf_pow_half)
+
+/* The scale k above from d2 (0 at and beyond the cutoff rc2). */
 PF_FN PF_REAL pf_lj_force_scale(PF_REAL d2, PF_REAL sigma2, PF_REAL eps, PF_REAL a, PF_REAL b, int a_half,
                                 int b_half, PF_REAL rc2, PF_REAL force_cap) {
   if (d2 >= rc2) return (PF_REAL)0;
-  const PF_REAL x = sigma2 / d2;
-  const PF_REAL sb = pf_pow_half(x, b, b_half);
-  const PF_REAL sa = (b_half > 0 && a_half == 2 * b_half) ? sb * sb : pf_pow_half(x, a, a_half);
-  const PF_REAL k = (PF_REAL)4 * eps * (a * sa - b * sb) / d2;
-  const PF_REAL k_max = force_cap / sqrt(d2);
-  return fmin(fmax(k, -k_max), k_max);
+  return pf_lj_force_scale_inv((PF_REAL)1 / d2, (PF_REAL)1 / sqrt(d2), sigma2, eps, a, b, a_half, b_half, force_cap);
 }
 
 /* The pair energy u(d) above (shifted to zero at the cutoff), for d2 > 0. */
@@ -101,6 +119,51 @@ PF_DEFINE_CONTACT_DAMPING(pf_contact_damping, PF_REAL, pf_inv_sqrt)
     return select((T)0, -((T)1 + wall_restitution) * un, un > (T)0);                                      \
   }
 PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change, PF_REAL)
+
+/* Whether any lane of a mask is set: for one lane, the value itself. */
+#define PF_ANY1(m) (m)
+
+/* The wall push: a sphere of radius r at p whose field value phi (signed
+ * distance, negative inside) and gradient g say it reaches the surface
+ * (phi > -r, the `touching` lanes) is moved along -g by (phi + r) / |g|
+ * and the field sampled again, up to PF_WALL_ITERATIONS times while it
+ * still reaches it; then its outward normal velocity is reflected
+ * (PF_DEFINE_WALL_VELOCITY_CHANGE's rule, WALL_CHANGE, at the same width).
+ * A lane whose |g| is below 1e-20 is left where it is. Updates p, u, g;
+ * returns phi at the new p. SAMPLE(x, y, z, g) samples the field at the
+ * width (it may use the trailing parameters, the field's); ANY is any-lane. */
+#define PF_DEFINE_WALL_PUSH(NAME, T, M, ANY, SAMPLE, WALL_CHANGE, ...)                                     \
+  PF_FN T NAME(T* px, T* py, T* pz, T* ux, T* uy, T* uz, T phi, T* g, M touching, T r, T wall_restitution,  \
+               __VA_ARGS__) {                                                                              \
+    if (!ANY(touching)) return phi;                                                                        \
+    M pushing = touching;                                                                                  \
+    for (int it = 0; it < PF_WALL_ITERATIONS; ++it) {                                                      \
+      pushing &= phi > -r;                                                                                 \
+      const T gl = sqrt(fma(g[2], g[2], fma(g[1], g[1], g[0] * g[0])));                                     \
+      pushing &= gl > (T)1e-20f;                                                                           \
+      if (!ANY(pushing)) break;                                                                            \
+      const T push = (phi + r) / gl;                                                                       \
+      *px = select(*px, *px - push * g[0], pushing);                                                       \
+      *py = select(*py, *py - push * g[1], pushing);                                                       \
+      *pz = select(*pz, *pz - push * g[2], pushing);                                                       \
+      T h[3];                                                                                              \
+      const T again = SAMPLE(*px, *py, *pz, h);                                                            \
+      phi = select(phi, again, pushing);                                                                   \
+      g[0] = select(g[0], h[0], pushing);                                                                  \
+      g[1] = select(g[1], h[1], pushing);                                                                  \
+      g[2] = select(g[2], h[2], pushing);                                                                  \
+    }                                                                                                      \
+    const T gl = sqrt(fma(g[2], g[2], fma(g[1], g[1], g[0] * g[0])));                                       \
+    const M turn = touching & (gl > (T)1e-20f);                                                            \
+    const T safe_gl = select((T)1, gl, turn);                                                              \
+    const T nx = g[0] / safe_gl, ny = g[1] / safe_gl, nz = g[2] / safe_gl;                                 \
+    const T un = *ux * nx + *uy * ny + *uz * nz;                                                           \
+    const T dv = select((T)0, WALL_CHANGE(un, wall_restitution), turn);                                    \
+    *ux += dv * nx;                                                                                        \
+    *uy += dv * ny;                                                                                        \
+    *uz += dv * nz;                                                                                        \
+    return phi;                                                                                            \
+  }
 
 /* Integration (leapfrog with half-step velocities) of one particle before
  * the wall: u = (u + dt F / m) damp, capped at speed vmax (a displacement

@@ -65,3 +65,35 @@ TEST_CASE("device: a missing kernel name is an error naming it") {
   CHECK(cl_status_name(-5) == "CL_OUT_OF_RESOURCES");
   CHECK(cl_status_name(-12345) == "CL_UNKNOWN_ERROR(-12345)");
 }
+
+TEST_CASE("device: kernel parameters are read from the source, comments and attributes aside") {
+  const auto sigs = kernel_signatures(
+      "/* __kernel void not_me(int a) */ // __kernel void nor_me(int b)\n"
+      "__kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void step(\n"
+      "    __global const float4* X, PF_FIELD_ARG sdf, const uint n) { f(a, b); }\n"
+      "__kernel void empty(void) {}\n");
+  REQUIRE(sigs.size() == 2);
+  REQUIRE(sigs.count("step") == 1);
+  CHECK(sigs.at("step")->names == std::vector<std::string>{"X", "sdf", "n"});
+  CHECK(sigs.at("empty")->names.empty());
+}
+
+TEST_CASE("device: arguments bound by name; a wrong name, or one left unset, is an error naming it") {
+  Device device;
+  Program program(device, {"device_selftest.cl"}, {{"SCALE", "2.0f"}});
+  Kernel k = program.kernel("scale_values", 64);
+  const cl_uint n = 100;
+  std::vector<float> x(n, 1.5f), y(n, 0.f);
+  cl::Buffer dx = device.make_buffer(n * sizeof(float), "x");
+  cl::Buffer dy = device.make_buffer(n * sizeof(float), "y");
+  check_cl(device.queue().enqueueWriteBuffer(dx, CL_TRUE, 0, n * sizeof(float), x.data()), "write");
+  CHECK_THROWS_WITH_AS(k.set("count", n), doctest::Contains("scale_values has no parameter named 'count'"), Error);
+  k.set("y", dy).set("x", dx);  // any order
+  CHECK_THROWS_WITH_AS(launch(device, k, n), doctest::Contains("parameter 'n' was not set"), Error);
+  k.bind("not_declared", n).set("n", n);  // bind: only what the kernel declares
+  launch(device, k, n);
+  check_cl(device.queue().enqueueReadBuffer(dy, CL_TRUE, 0, n * sizeof(float), y.data()), "read");
+  for (cl_uint i = 0; i < n; ++i) REQUIRE(y[i] == 3.0f);
+  k.forget_args();  // after buffers change: everything must be set again
+  CHECK_THROWS_WITH_AS(launch(device, k, n), doctest::Contains("was not set"), Error);
+}

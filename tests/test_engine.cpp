@@ -247,6 +247,50 @@ TEST_CASE("engine: an automatic skin is the step form's, and a given one is kept
   CHECK_THROWS_WITH_AS(derive_constants(p), doctest::Contains("skin_sigma"), Error);
 }
 
+TEST_CASE("engine settings: the automatic choices are made for a device's kind, cores and limits, in one line") {
+  DeviceInfo cpu;
+  cpu.type = "CPU";
+  cpu.name = "some cpu";
+  cpu.compute_units = 2;
+  cpu.max_work_group = 4096;
+  DeviceInfo gpu = cpu;
+  gpu.type = "GPU";
+  gpu.compute_units = 80;
+  gpu.max_work_group = 64;
+  EngineParams repulsive;  // cutoff 0
+  EngineParams lj;
+  lj.cutoff_sigma = 2.5;
+  const DeviceChoices c = resolve_for_device(cpu, repulsive);
+  CHECK(!c.gpu_form);
+  CHECK(c.skin_sigma == kCpuFormSkinSigma);
+  CHECK(c.newton);  // at most 4 cores
+  CHECK(c.pair_queue);  // purely repulsive
+  CHECK(!c.inner_lists);
+  CHECK(c.work_group == 128);
+  CHECK(c.describe() == "engine on CPU 'some cpu' (2 compute units): cpu step form (automatic), skin 0.5 sigma "
+                        "(automatic), work-group 128, newton on (automatic), pair queue on (automatic), inner lists "
+                        "off (automatic)");
+  const DeviceChoices l = resolve_for_device(cpu, lj);
+  CHECK(!l.pair_queue);
+  CHECK(l.inner_lists);
+  cpu.compute_units = 16;
+  CHECK(!resolve_for_device(cpu, lj).newton);
+  const DeviceChoices g = resolve_for_device(gpu, lj);
+  CHECK(g.gpu_form);
+  CHECK(g.skin_sigma == kGpuFormSkinSigma);
+  CHECK(!g.newton);
+  CHECK(!g.inner_lists);
+  CHECK(g.work_group == 64);  // the device's limit
+  lj.step_form = StepForm::cpu;
+  lj.skin_sigma = 0.4;
+  lj.work_group = 100;
+  const DeviceChoices set = resolve_for_device(gpu, lj);
+  CHECK(!set.gpu_form);
+  CHECK(set.skin_sigma == 0.4);
+  CHECK(set.work_group == 64);
+  CHECK(set.describe().find("cpu step form (set), skin 0.4 sigma (set)") != std::string::npos);
+}
+
 TEST_CASE("engine: a pair pruned as unable to touch is pruned again before it touches") {
   // A pruning lists first the entries that may touch before the next one
   // (within touch distance plus the inner skin), and the pair loop runs

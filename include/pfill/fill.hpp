@@ -6,6 +6,7 @@
 #pragma once
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,9 @@
 #include "pfill/stop_tests.hpp"
 
 namespace pfill {
+
+class ParticleEngine;
+struct EngineParams;
 
 /// What a long fill reports while it runs (through FillOptions::progress).
 struct FillProgress {
@@ -105,6 +109,15 @@ struct FillOptions {
   int sort_every = 1024;        ///< steps between renumberings of the particles along the cells (0: never)
   std::string device;           ///< OpenCL device spec (index or name); "" = default
   std::function<void(const FillProgress&)> progress;
+  /// Called with a line of what the fill chose for itself, e.g. the
+  /// engine's automatic settings for the device (DeviceChoices::describe).
+  std::function<void(const std::string&)> log;
+  /// The engine passes 1-3 run on; empty: the OpenCL Engine on `device`.
+  /// Given one (e.g. the C++ ReferenceEngine, for tests without an OpenCL
+  /// device), no device is opened and the finish, which needs the OpenCL
+  /// engine, is left out: the result is the settled packing, repaired for
+  /// containment and measured.
+  std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> engine;
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;

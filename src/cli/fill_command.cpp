@@ -44,6 +44,7 @@ struct FillArgs {
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
+  bool verbose = false;               // the fill's own choices (FillOptions::log) on stderr
   bool json = false;                  // the summary as JSON on stdout
   std::string attribute_names = "pfill";
   double density = 1.0;               // LAMMPS .data
@@ -152,6 +153,7 @@ void run_fill(FillArgs& a) {
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
+  if (a.verbose) a.options.log = [](const std::string& line) { std::fprintf(stderr, "pfill: %s\n", line.c_str()); };
   std::unique_ptr<FrameWriter> frames;
   if (!a.frames.empty()) {
     frames = std::make_unique<FrameWriter>(a.frames, 1, wo);
@@ -309,6 +311,7 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
+  cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)");
   cmd->callback([a, cmd]() {
     if (!a->mesh.empty() && cmd->count("--builtin") > 0)
       throw Error("give a mesh file or --builtin NAME, not both");

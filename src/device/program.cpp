@@ -2,6 +2,7 @@
 #include "pfill/device/program.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -10,8 +11,88 @@
 
 namespace pfill {
 
-Kernel::Kernel(cl::Kernel kernel, std::string name, size_t work_group)
-    : kernel_(std::move(kernel)), name_(std::move(name)), work_group_(work_group) {}
+Kernel::Kernel(cl::Kernel kernel, std::string name, size_t work_group, std::shared_ptr<const KernelSignature> signature)
+    : kernel_(std::move(kernel)), name_(std::move(name)), work_group_(work_group), signature_(std::move(signature)) {}
+
+cl_uint Kernel::arg_index(std::string_view name) const {
+  if (signature_) {
+    const auto it = signature_->index.find(name);
+    if (it != signature_->index.end()) return it->second;
+  }
+  throw Error("kernel " + name_ + " has no parameter named '" + std::string(name) + "'");
+}
+
+void Kernel::require_all_set() const {
+  if (!signature_ || args_set_ == signature_->names.size()) return;
+  for (size_t k = 0; k < signature_->names.size(); ++k)
+    if (k >= last_args_.size() || !last_args_[k].set)
+      throw Error("kernel " + name_ + ": parameter '" + signature_->names[k] + "' was not set before the launch");
+}
+
+namespace {
+
+// `source` with its comments blanked (strings do not occur in kernels).
+std::string without_comments(const std::string& source) {
+  std::string out = source;
+  for (size_t i = 0; i + 1 < out.size(); ++i) {
+    if (out[i] == '/' && out[i + 1] == '/') {
+      while (i < out.size() && out[i] != '\n') out[i++] = ' ';
+    } else if (out[i] == '/' && out[i + 1] == '*') {
+      const size_t end = out.find("*/", i + 2);
+      const size_t stop = end == std::string::npos ? out.size() : end + 2;
+      for (; i < stop; ++i)
+        if (out[i] != '\n') out[i] = ' ';
+      --i;
+    }
+  }
+  return out;
+}
+
+bool is_word(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+// The last identifier in `text` (a parameter's name).
+std::string last_word(const std::string& text) {
+  size_t end = text.size();
+  while (end > 0 && !is_word(text[end - 1])) --end;
+  size_t begin = end;
+  while (begin > 0 && is_word(text[begin - 1])) --begin;
+  return text.substr(begin, end - begin);
+}
+
+}  // namespace
+
+std::map<std::string, std::shared_ptr<const KernelSignature>> kernel_signatures(const std::string& source) {
+  const std::string text = without_comments(source);
+  std::map<std::string, std::shared_ptr<const KernelSignature>> out;
+  for (size_t at = text.find("__kernel"); at != std::string::npos; at = text.find("__kernel", at + 8)) {
+    if ((at > 0 && is_word(text[at - 1])) || is_word(text[at + 8])) continue;
+    // __kernel [__attribute__((...))] void NAME(PARAMS)
+    size_t v = text.find("void", at);
+    if (v == std::string::npos) break;
+    const size_t open = text.find('(', v + 4);
+    if (open == std::string::npos) break;
+    const std::string name = last_word(text.substr(v + 4, open - v - 4));
+    auto sig = std::make_shared<KernelSignature>();
+    int depth = 0;
+    size_t start = open + 1, k = open + 1;
+    for (; k < text.size(); ++k) {
+      const char c = text[k];
+      if (c == '(') ++depth;
+      if (c == ')' && depth-- == 0) break;
+      if (c == ',' && depth == 0) {
+        sig->names.push_back(last_word(text.substr(start, k - start)));
+        start = k + 1;
+      }
+    }
+    const std::string last = text.substr(start, k - start);
+    if (last.find_first_not_of(" \t\n") != std::string::npos && last_word(last) != "void")
+      sig->names.push_back(last_word(last));
+    for (size_t i = 0; i < sig->names.size(); ++i) sig->index.emplace(sig->names[i], static_cast<cl_uint>(i));
+    out.emplace(name, std::move(sig));  // the first definition of a name stands
+    at = k;
+  }
+  return out;
+}
 
 Program::Program(Device& device, const std::vector<std::string>& files,
                  const std::map<std::string, std::string>& defines, const std::string& options)
@@ -58,6 +139,7 @@ Program::Program(Device& device, const std::vector<std::string>& files,
     check_cl(build, "clBuildProgram",
              files_list + " on " + device.info().name + " (options '" + all_options + "'); build log:\n" + log);
   }
+  signatures_ = kernel_signatures(source_);
 }
 
 Kernel Program::kernel(const std::string& name, size_t preferred_work_group) const {
@@ -67,7 +149,8 @@ Kernel Program::kernel(const std::string& name, size_t preferred_work_group) con
   size_t limit = 0;
   check_cl(k.getWorkGroupInfo(device_->device(), CL_KERNEL_WORK_GROUP_SIZE, &limit), "clGetKernelWorkGroupInfo", name);
   limit = std::min({limit, device_->info().max_work_group, preferred_work_group});
-  return Kernel(k, name, floor_power_of_two(limit));
+  const auto sig = signatures_.find(name);
+  return Kernel(k, name, floor_power_of_two(limit), sig == signatures_.end() ? nullptr : sig->second);
 }
 
 size_t floor_power_of_two(size_t n) {
@@ -77,6 +160,7 @@ size_t floor_power_of_two(size_t n) {
 }
 
 void launch(Device& device, Kernel& kernel, size_t items, cl::Event* event) {
+  kernel.require_all_set();
   const size_t wg = kernel.work_group();
   const size_t global = std::max<size_t>(1, (items + wg - 1) / wg) * wg;
   check_cl(device.queue().enqueueNDRangeKernel(kernel.handle(), cl::NullRange, cl::NDRange(global), cl::NDRange(wg),

@@ -56,6 +56,31 @@ void CellGrid::clear() {
            "clEnqueueFillBuffer", "cells to empty");
 }
 
+namespace {
+
+// The bits of v (21 of them) spread to every third bit.
+uint64_t spread_bits(uint64_t v) {
+  v &= 0x1FFFFF;
+  v = (v | v << 32) & 0x1F00000000FFFFull;
+  v = (v | v << 16) & 0x1F0000FF0000FFull;
+  v = (v | v << 8) & 0x100F00F00F00F00Full;
+  v = (v | v << 4) & 0x10C30C30C30C30C3ull;
+  v = (v | v << 2) & 0x1249249249249249ull;
+  return v;
+}
+
+}  // namespace
+
+uint64_t CellGrid::morton_key(const cl_float4& x) const {
+  uint64_t key = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double t = std::floor((x.s[a] - origin.s[a]) * inv.s[a]);
+    const int c = static_cast<int>(std::clamp(t, 0.0, static_cast<double>(dims.s[a] - 1)));
+    key |= spread_bits(static_cast<uint64_t>(c)) << a;
+  }
+  return key;
+}
+
 void CellGrid::require_domain() const {
   if (!has_domain_)
     throw Error("engine: no neighbour grid domain; call set_field() or set EngineParams::domain before stepping");

@@ -30,6 +30,9 @@ class CellGrid {
   /// Step `steps`'s set of count words: its first word.
   cl_uint base(uint64_t steps) const { return static_cast<cl_uint>((steps % 2) * total_); }
   cl_uint total() const { return static_cast<cl_uint>(total_); }
+  /// The Morton (Z-order) key of the cell holding `x`, clamped into the
+  /// grid as the kernels clamp (cells.cl pf_cell_of).
+  uint64_t morton_key(const cl_float4& x) const;
 
   cl_float4 origin{}, inv{};  // the grid's corner; 1 / cell edge
   cl_int4 dims{};

@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <string>
 
+#include "pfill/device/device.hpp"
+#include "pfill/device/program.hpp"
 #include "pfill/error.hpp"
 
 namespace pfill {
@@ -87,5 +90,39 @@ EngineConstants derive_constants(const EngineParams& p) {
 }
 
 double particle_mass(const EngineParams& p, double r) { return std::pow(r / p.radius, 3); }
+
+DeviceChoices resolve_for_device(const DeviceInfo& device, const EngineParams& p) {
+  DeviceChoices c;
+  c.form_automatic = p.step_form == StepForm::automatic;
+  c.gpu_form = c.form_automatic ? device.type != "CPU" : p.step_form == StepForm::gpu;
+  c.skin_automatic = p.skin_sigma == 0;
+  c.skin_sigma = c.skin_automatic ? (c.gpu_form ? kGpuFormSkinSigma : kCpuFormSkinSigma) : p.skin_sigma;
+  // The `cpu` form's variants: Newton's third law on few cores (each core's
+  // force buffer is read for every particle), the pair queue for purely
+  // repulsive rows (short, few entries in reach), inner lists with a
+  // cutoff (long rows, most of the skin's entries out of reach).
+  c.newton_automatic = p.newton == Newton::automatic;
+  c.newton = !c.gpu_form && (c.newton_automatic ? device.compute_units <= 4 : p.newton == Newton::on);
+  c.queue_automatic = p.pair_queue == PairQueue::automatic;
+  c.pair_queue = !c.gpu_form && (c.queue_automatic ? p.cutoff_sigma <= 0 : p.pair_queue == PairQueue::on);
+  c.inner_automatic = p.inner_lists == InnerLists::automatic;
+  c.inner_lists = !c.gpu_form && (c.inner_automatic ? p.cutoff_sigma > 0 && p.inner_skin_sigma < c.skin_sigma
+                                                    : p.inner_lists == InnerLists::on);
+  c.work_group = floor_power_of_two(std::min(p.work_group, device.max_work_group));
+  c.device_line = device.type + " '" + device.name + "' (" + std::to_string(device.compute_units) + " compute units)";
+  return c;
+}
+
+std::string DeviceChoices::describe() const {
+  auto how = [](bool automatic) { return automatic ? " (automatic)" : " (set)"; };
+  auto on = [](bool b) { return b ? "on" : "off"; };
+  std::ostringstream s;
+  s << "engine on " << device_line << ": " << (gpu_form ? "gpu" : "cpu") << " step form" << how(form_automatic)
+    << ", skin " << skin_sigma << " sigma" << how(skin_automatic) << ", work-group " << work_group;
+  if (!gpu_form)
+    s << ", newton " << on(newton) << how(newton_automatic) << ", pair queue " << on(pair_queue)
+      << how(queue_automatic) << ", inner lists " << on(inner_lists) << how(inner_automatic);
+  return s.str();
+}
 
 }  // namespace pfill

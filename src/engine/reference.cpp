@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <functional>
 #include <string>
+#include <utility>
 #include <cmath>
 #include <math.h>
 
@@ -36,15 +37,19 @@ using ::sqrt;
 
 namespace {
 
-constexpr int kWallIterations = 2;  // as PF_WALL_ITERATIONS in the kernels
-
-double sample(const ScalarGrid& f, const Vec3& p, Vec3& g) {
-  double gg[3];
-  const double v = physics::pf_sdf_sample(f.values.data(), f.dims[0], f.dims[1], f.dims[2], f.origin.x, f.origin.y,
-                                          f.origin.z, 1 / f.spacing, p.x, p.y, p.z, gg);
-  g = {gg[0], gg[1], gg[2]};
-  return v;
+double sample(const ScalarGrid& f, double x, double y, double z, double* g) {
+  return physics::pf_sdf_sample(f.values.data(), f.dims[0], f.dims[1], f.dims[2], f.origin.x, f.origin.y, f.origin.z,
+                                1 / f.spacing, x, y, z, g);
 }
+
+// physics.cl's wall push, in double precision.
+using physics::select;
+using physics::pf_wall_velocity_change;
+#define PF_FN inline
+#define PF_WALL_ITERATIONS kWallIterations
+#define PF_SAMPLE_REF(PX, PY, PZ, G) sample(field, PX, PY, PZ, G)
+PF_DEFINE_WALL_PUSH(wall_push, double, int, PF_ANY1, PF_SAMPLE_REF, pf_wall_velocity_change, const ScalarGrid& field)
+#undef PF_FN
 
 }  // namespace
 
@@ -55,13 +60,38 @@ void ReferenceEngine::set_field(const ScalarGrid& field) {
   has_field_ = true;
 }
 
-void ReferenceEngine::add_particles(const std::vector<Particle>& particles) {
+size_t ReferenceEngine::add_particles(const std::vector<Particle>& particles) {
+  const size_t first = particles_.size();
   for (Particle p : particles) {
     if (p.mass == 0) p.mass = particle_mass(params_, p.radius);
     particles_.push_back(p);
     flags_.push_back(false);
   }
+  return first;
 }
+
+std::string ReferenceEngine::describe() const { return "the C++ reference engine (double precision, every pair)"; }
+
+void ReferenceEngine::run_steps(size_t k) {
+  for (size_t s = 0; s < k; ++s) history_.push_back(step());
+}
+
+std::vector<StepRecord> ReferenceEngine::read_history() { return std::exchange(history_, {}); }
+
+std::vector<size_t> ReferenceEngine::sort_by_cells() {
+  std::vector<size_t> order(particles_.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  return order;
+}
+
+std::vector<size_t> ReferenceEngine::flagged_particles() {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < flags_.size(); ++i)
+    if (flags_[i]) out.push_back(i);
+  return out;
+}
+
+void ReferenceEngine::clear_flags() { std::fill(flags_.begin(), flags_.end(), false); }
 
 void ReferenceEngine::remove_particles(std::vector<size_t> indices) {
   std::sort(indices.begin(), indices.end(), std::greater<size_t>());
@@ -106,8 +136,8 @@ StepRecord ReferenceEngine::step() {
     physics::pf_kick_drift(&u.x, &u.y, &u.z, &x.x, &x.y, &x.z, force.x, force.y, force.z, inv_mi, c.dt,
                            c.damping_factor, c.max_speed);
     if (has_field_) {
-      Vec3 g;
-      double phi = sample(field_, x, g);
+      double g[3];
+      double phi = sample(field_, x.x, x.y, x.z, g);
       const Vec3 gp = (x - field_.origin) / field_.spacing;
       const bool outside_box = gp.x < 0 || gp.y < 0 || gp.z < 0 || gp.x > field_.dims[0] - 1 ||
                                gp.y > field_.dims[1] - 1 || gp.z > field_.dims[2] - 1;
@@ -115,19 +145,8 @@ StepRecord ReferenceEngine::step() {
         ++rec.flagged;
         flags_[i] = true;
       }
-      if (phi > -pi.radius) {
-        for (int it = 0; it < kWallIterations && phi > -pi.radius; ++it) {
-          const double gl = length(g);
-          if (!(gl > 1e-20)) break;
-          x -= ((phi + pi.radius) / gl) * g;
-          phi = sample(field_, x, g);
-        }
-        const double gl = length(g);
-        if (gl > 1e-20) {
-          const Vec3 n = g / gl;
-          u += physics::pf_wall_velocity_change(dot(u, n), params_.wall_restitution) * n;
-        }
-      }
+      wall_push(&x.x, &x.y, &x.z, &u.x, &u.y, &u.z, phi, g, phi > -pi.radius, pi.radius, params_.wall_restitution,
+                field_);
     }
     next[i].position = x;
     next[i].velocity = u;

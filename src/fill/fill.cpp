@@ -166,10 +166,10 @@ class FillRun {
     }
     result_.sites = sites_;
 
-    device_ = std::make_unique<Device>(o_.device);
-    result_.device = device_->info().name;
+    if (!o_.engine) device_ = std::make_unique<Device>(o_.device);
+    result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
     const size_t bytes_needed = static_cast<size_t>(expected * 2 + 1024) * 96 + stats.bytes;
-    if (device_->info().global_memory > 0 && bytes_needed > device_->info().global_memory)
+    if (device_ && device_->info().global_memory > 0 && bytes_needed > device_->info().global_memory)
       throw Error("about " + fmt(expected) + " particles need ~" + fmt(bytes_needed / 1048576.0) + " MiB but " +
                   device_->info().name + " has " + fmt(device_->info().global_memory / 1048576.0) +
                   " MiB; choose a larger radius or another device (--device)");
@@ -186,7 +186,8 @@ class FillRun {
     params_.dt = o_.time_step * derive_constants(params_).tau;
     params_.max_step_fraction = o_.max_step_fraction;
     params_.skin_sigma = o_.skin;
-    engine_ = std::make_unique<Engine>(*device_, params_);
+    engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
+    if (o_.log) o_.log(engine_->describe());
     engine_->set_field(field_);
     top_speed_ = engine_->constants().max_speed;
   }
@@ -345,6 +346,11 @@ class FillRun {
     fill_steps_ = engine_->steps_done();
     const std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
+    if (!device_) {  // FillOptions::engine: no OpenCL engine for the finish
+      particles_ = to_particle_set(ps);
+      result_.warnings.push_back("the finish was left out: it needs the OpenCL engine (FillOptions::engine was given)");
+      return;
+    }
     report_particles(ps.size(), 0, 0);  // the phase starts (progress lines, time left)
     const FinishSettings s = finish_settings();
     FinishStats stats;
@@ -544,7 +550,7 @@ class FillRun {
     next_sort_ = engine_->steps_done() + static_cast<uint64_t>(o_.sort_every);
   }
 
-  static std::vector<size_t> flagged_of(Engine& e) {
+  static std::vector<size_t> flagged_of(ParticleEngine& e) {
     std::vector<size_t> out = e.flagged_particles();
     e.clear_flags();
     return out;
@@ -635,7 +641,7 @@ class FillRun {
   double birth_clearance_ = 0.5;  ///< room test radius, in rest distances
   std::unique_ptr<Device> device_;
   EngineParams params_;
-  std::unique_ptr<Engine> engine_;
+  std::unique_ptr<ParticleEngine> engine_;
   std::vector<StepRecord> history_;
   std::vector<Vec3> snapshot_;
   size_t newest_ = Engine::kGone;  // index of the last particle born (kGone: removed)

@@ -30,6 +30,7 @@
 #include <vector>
 
 #include "pfill/engine/params.hpp"
+#include "pfill/engine/particle_engine.hpp"
 #include "pfill/engine/step_record.hpp"
 #include "pfill/grid.hpp"
 #include "pfill/vec3.hpp"
@@ -38,16 +39,7 @@ namespace pfill {
 
 class Device;
 
-/// One particle as the host sees it.
-struct Particle {
-  Vec3 position;
-  Vec3 velocity;   ///< on read-back: the half-step velocity of the last step
-  double radius = 0;
-  double mass = 0; ///< 0 on add: derived from the radius (particle_mass)
-  uint64_t id = 0; ///< the caller's label; the engine keeps it with the particle (removals, sorts)
-};
-
-class Engine {
+class Engine final : public ParticleEngine {
  public:
   /// Builds the kernels for `params` on `device` (which must outlive the
   /// engine). Throws pfill::Error for a bad setting, DeviceError for OpenCL.
@@ -56,24 +48,27 @@ class Engine {
   Engine(const Engine&) = delete;
   Engine& operator=(const Engine&) = delete;
 
-  const EngineParams& params() const;
-  const EngineConstants& constants() const;
+  const EngineParams& params() const override;
+  const EngineConstants& constants() const override;
+  std::string describe() const override;  ///< choices().describe()
+  /// The automatic settings as made for the device (resolve_for_device);
+  /// choices().describe() is a line saying what they are.
+  const DeviceChoices& choices() const;
 
   /// The wall: a signed distance grid (negative inside, dims >= 2 each).
   /// Its box becomes the neighbour-grid domain. Uploaded once (blocking).
-  void set_field(const ScalarGrid& field);
+  void set_field(const ScalarGrid& field) override;
 
   /// Appends particles; returns the index of the first. Radii must be in
   /// (0, max_radius]. One particle is one small launch (no blocking); more
   /// are a blocking upload.
-  size_t add_particles(const std::vector<Particle>& particles);
-  size_t add_particle(const Particle& p) { return add_particles({p}); }
+  size_t add_particles(const std::vector<Particle>& particles) override;
 
   /// Removes particles by index. Each removal moves the current last
   /// particle into the freed index (swap with last); indices are processed
   /// from the largest down, so the other given indices stay valid. Indices
   /// >= size() throw.
-  void remove_particles(std::vector<size_t> indices);
+  void remove_particles(std::vector<size_t> indices) override;
 
   /// Where particle `index` is after remove_particles(removed) on an engine
   /// of `count` particles: its new index, or kGone when it was removed.
@@ -83,13 +78,13 @@ class Engine {
   /// Enqueues k steps and returns at once (no blocking read). Blocks only
   /// when more than history_capacity records are unread (they move to a
   /// host-side backlog, returned by the next read_history).
-  void run_steps(size_t k);
+  void run_steps(size_t k) override;
 
   /// The records of every step since the last call (blocking).
-  std::vector<StepRecord> read_history();
+  std::vector<StepRecord> read_history() override;
 
   /// All particles (blocking): positions, velocities, radii, masses.
-  std::vector<Particle> read_particles();
+  std::vector<Particle> read_particles() override;
 
   /// Renumbers the particles along a Z-order (Morton) curve of the cells
   /// they are in, ties by their current index, so that particles near in
@@ -101,15 +96,15 @@ class Engine {
   /// 20% more steps a second on PoCL: the wall's field is read from cache
   /// too). Returns
   /// new index -> old index.
-  std::vector<size_t> sort_by_cells();
+  std::vector<size_t> sort_by_cells() override;
 
   /// Indices of particles flagged outside the field since the last
   /// clear_flags() (a flag moves with its particle on removal).
-  std::vector<size_t> flagged_particles();
-  void clear_flags();
+  std::vector<size_t> flagged_particles() override;
+  void clear_flags() override;
 
-  size_t size() const;          ///< particle count
-  uint64_t steps_done() const;  ///< steps enqueued since construction
+  size_t size() const override;          ///< particle count
+  uint64_t steps_done() const override;  ///< steps enqueued since construction
 
   /// Blocks until the device is idle.
   void finish();

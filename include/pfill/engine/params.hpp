@@ -1,10 +1,13 @@
 /// @file params.hpp
-/// @brief The physical settings of the particle engine (EngineParams, as a
-/// user gives them) and the constants derived from them (EngineConstants:
-/// sigma, cutoff, time step, caps), shared by the OpenCL engine and the C++
-/// reference so both run the same physics.
+/// @brief The settings of the particle engine as a user gives them
+/// (EngineParams: the physics, the neighbour lists, the device tuning),
+/// the constants derived from them (EngineConstants: sigma, cutoff, time
+/// step, caps), shared by the OpenCL engine and the C++ reference so both
+/// run the same physics, and the automatic choices made for a device
+/// (resolve_for_device: the one place they are made).
 #pragma once
 #include <cstddef>
+#include <string>
 
 #include "pfill/vec3.hpp"
 
@@ -19,9 +22,11 @@ enum class PairQueue { automatic, on, off };
 /// Whether the `cpu` form prunes inner lists from the lists: see EngineParams::inner_lists.
 enum class InnerLists { automatic, on, off };
 
-/// What the user sets. Lengths are in mesh units; a particle of radius
-/// `radius` has mass 1 (mass scales with volume, (r / radius)^3).
-struct EngineParams {
+struct DeviceInfo;
+
+/// The physics. Lengths are in mesh units; a particle of radius `radius`
+/// has mass 1 (mass scales with volume, (r / radius)^3).
+struct PhysicsParams {
   double radius = 0.5;             ///< reference particle radius (> 0)
   double max_radius = 0;           ///< largest radius a particle may have; 0: `radius`
   double rest_distance = 0;        ///< centre distance at the potential's minimum; 0: 2 * radius (touching)
@@ -35,6 +40,11 @@ struct EngineParams {
   double dt = 0;                   ///< time step; 0: 0.005 tau, tau = sigma sqrt(m / eps)
   double max_step_fraction = 0.05; ///< no particle moves more than this many sigma in one step
   double force_cap = 0;            ///< largest pair force; 0: the force that gives a unit mass the top speed in one step
+};
+
+/// The neighbour lists and grid (results do not depend on them, beyond
+/// rounding in the order forces are summed).
+struct ListParams {
   /// Neighbour-list skin in units of sigma (lists rebuilt after moves of
   /// half of it). 0: automatic, 0.5 in the `cpu` step form (its inner lists
   /// keep the pair loop short, so longer lists pay in rarer rebuilds: 3-4%
@@ -42,6 +52,29 @@ struct EngineParams {
   /// form (which reads the whole list every step).
   double skin_sigma = 0;
   Box3 domain;                     ///< cell-grid box when no field is set (particles outside still work, slower)
+  /// `cpu` form: dynamic pruning (as GROMACS does it). Every so often each
+  /// list is pruned to an inner list of the pairs within the reach plus
+  /// `inner_skin_sigma`, which the pair loop then reads; a particle that
+  /// moved half of that since the last pruning makes the next step prune
+  /// again (the lists themselves still rebuild after moves of half the
+  /// skin). The pair loop then skips the ~40% of a list's entries that the
+  /// skin adds at rc = 2.5 sigma, at the cost of a pruning pass every few
+  /// steps and a second list buffer. Each inner list holds first the
+  /// entries that may touch before the next pruning (touch distance plus
+  /// the inner skin), and the pair loop runs the contact damping on those
+  /// chunks only. 0.07 sigma ran 3-4% faster than 0.1 at rc = 2.5 (N = 1e5,
+  /// bench_variants); the flat optimum lies between 0.05 and 0.1, and a
+  /// larger `skin_sigma` (0.4-0.5) gains another 2-4% there (fewer
+  /// rebuilds, longer lists). `automatic`: on with a cutoff
+  /// (cutoff_sigma > 0), off for purely repulsive potentials, whose fast
+  /// fills would prune nearly every step. `gpu` form: unused.
+  InnerLists inner_lists = InnerLists::automatic;
+  double inner_skin_sigma = 0.07;  ///< inner-list skin in sigma (< skin_sigma; see inner_lists)
+};
+
+/// How the step runs on the device. The `automatic` choices are made by
+/// resolve_for_device.
+struct DeviceTuning {
   size_t history_capacity = 4096;  ///< per-step records kept on the device between reads
   size_t work_group = 128;         ///< preferred work-group size (a power of two; the device may lower it)
   /// Wall field storage: false (default) a global buffer; true a CL_R/CL_FLOAT
@@ -78,25 +111,32 @@ struct EngineParams {
   /// are short and few entries are in reach (purely repulsive lists);
   /// `automatic`: on for purely repulsive potentials. `gpu` form: unused.
   PairQueue pair_queue = PairQueue::automatic;
-  /// `cpu` form: dynamic pruning (as GROMACS does it). Every so often each
-  /// list is pruned to an inner list of the pairs within the reach plus
-  /// `inner_skin_sigma`, which the pair loop then reads; a particle that
-  /// moved half of that since the last pruning makes the next step prune
-  /// again (the lists themselves still rebuild after moves of half the
-  /// skin). The pair loop then skips the ~40% of a list's entries that the
-  /// skin adds at rc = 2.5 sigma, at the cost of a pruning pass every few
-  /// steps and a second list buffer. Each inner list holds first the
-  /// entries that may touch before the next pruning (touch distance plus
-  /// the inner skin), and the pair loop runs the contact damping on those
-  /// chunks only. 0.07 sigma ran 3-4% faster than 0.1 at rc = 2.5 (N = 1e5,
-  /// bench_variants); the flat optimum lies between 0.05 and 0.1, and a
-  /// larger `skin_sigma` (0.4-0.5) gains another 2-4% there (fewer
-  /// rebuilds, longer lists). `automatic`: on with a cutoff
-  /// (cutoff_sigma > 0), off for purely repulsive potentials, whose fast
-  /// fills would prune nearly every step. `gpu` form: unused.
-  InnerLists inner_lists = InnerLists::automatic;
-  double inner_skin_sigma = 0.07;  ///< inner-list skin in sigma (< skin_sigma; see inner_lists)
 };
+
+/// What the user sets: the three groups side by side (their fields are
+/// the engine's settings, e.g. `p.radius`, `p.skin_sigma`, `p.work_group`).
+struct EngineParams : PhysicsParams, ListParams, DeviceTuning {};
+
+/// EngineParams' automatic choices made for one device (resolve_for_device).
+struct DeviceChoices {
+  bool gpu_form = false;    ///< step_form: the `gpu` form's kernels (else the `cpu` form's)
+  bool newton = false;      ///< newton (cpu form only)
+  bool pair_queue = false;  ///< pair_queue (cpu form only)
+  bool inner_lists = false; ///< inner_lists (cpu form only)
+  double skin_sigma = 0;    ///< skin_sigma; when automatic, the form's (kCpuFormSkinSigma, kGpuFormSkinSigma)
+  size_t work_group = 1;    ///< the group of `advance` and the per-step sums: work_group lowered to the device's limit, a power of two
+  /// One line saying what was chosen, e.g. "engine on CPU 'cpu-x' (2
+  /// compute units): cpu step form, skin 0.5 sigma (automatic), newton on
+  /// (automatic), ...".
+  std::string describe() const;
+  std::string device_line;  ///< the device, as describe() names it
+  bool skin_automatic = false, form_automatic = false, newton_automatic = false, queue_automatic = false,
+       inner_automatic = false;
+};
+
+/// The one place the automatic settings are resolved: for `device`'s type,
+/// compute units and work-group limit, and `p`'s potential (cutoff).
+DeviceChoices resolve_for_device(const DeviceInfo& device, const EngineParams& p);
 
 /// Everything derived from EngineParams (see derive_constants).
 struct EngineConstants {
@@ -119,6 +159,10 @@ struct EngineConstants {
   double inner_reach = 0;      ///< max(cutoff, 2 max_radius, rest distance) + inner_skin (inner lists hold list_capacity)
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
+
+/// Steps of the wall's push back inside along the field's gradient
+/// (physics.cl pf_wall_push; PF_WALL_ITERATIONS in the kernels).
+constexpr int kWallIterations = 2;
 
 /// The automatic skins (EngineParams::skin_sigma = 0) of the two step forms.
 constexpr double kCpuFormSkinSigma = 0.5;

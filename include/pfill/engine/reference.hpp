@@ -12,21 +12,34 @@
 
 namespace pfill {
 
-class ReferenceEngine {
+class ReferenceEngine final : public ParticleEngine {
  public:
   explicit ReferenceEngine(const EngineParams& params);
 
-  void set_field(const ScalarGrid& field);
+  void set_field(const ScalarGrid& field) override;
   /// Same conventions as Engine::add_particles (mass 0: from the radius).
-  void add_particles(const std::vector<Particle>& particles);
+  size_t add_particles(const std::vector<Particle>& particles) override;
   /// Same convention as Engine::remove_particles (swap with last, largest index first).
-  void remove_particles(std::vector<size_t> indices);
+  void remove_particles(std::vector<size_t> indices) override;
   /// One step; returns its record.
   StepRecord step();
 
+  // ParticleEngine: steps one after the other, their records kept until read.
+  const EngineParams& params() const override { return params_; }
+  std::string describe() const override;
+  void run_steps(size_t k) override;
+  std::vector<StepRecord> read_history() override;
+  std::vector<Particle> read_particles() override { return particles_; }
+  /// The reference lists nothing: the order stays (identity).
+  std::vector<size_t> sort_by_cells() override;
+  std::vector<size_t> flagged_particles() override;
+  void clear_flags() override;
+  size_t size() const override { return particles_.size(); }
+  uint64_t steps_done() const override { return steps_; }
+
   const std::vector<Particle>& particles() const { return particles_; }
   const std::vector<bool>& flags() const { return flags_; }
-  const EngineConstants& constants() const { return constants_; }
+  const EngineConstants& constants() const override { return constants_; }
 
   /// Total pair energy sum over pairs of u(d) (shifted LJ) of the current positions.
   double potential_energy() const;
@@ -41,6 +54,7 @@ class ReferenceEngine {
   ScalarGrid field_;
   bool has_field_ = false;
   uint64_t steps_ = 0;
+  std::vector<StepRecord> history_;  // run_steps' records, until read_history
 };
 
 }  // namespace pfill

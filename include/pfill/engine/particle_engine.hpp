@@ -1,0 +1,59 @@
+/// @file particle_engine.hpp
+/// @brief What the fill asks of an engine: particles in, steps, records
+/// and particles out. The OpenCL Engine (engine.hpp) and the C++
+/// reference (reference.hpp) both implement it, so the fill's passes run
+/// on either (FillOptions::engine); the reference needs no OpenCL device.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "pfill/engine/params.hpp"
+#include "pfill/engine/step_record.hpp"
+#include "pfill/grid.hpp"
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+/// One particle as the host sees it.
+struct Particle {
+  Vec3 position;
+  Vec3 velocity;   ///< on read-back: the half-step velocity of the last step
+  double radius = 0;
+  double mass = 0; ///< 0 on add: derived from the radius (particle_mass)
+  uint64_t id = 0; ///< the caller's label; the engine keeps it with the particle (removals, sorts)
+};
+
+class ParticleEngine {
+ public:
+  virtual ~ParticleEngine() = default;
+
+  virtual const EngineParams& params() const = 0;
+  virtual const EngineConstants& constants() const = 0;
+  /// One line naming the engine and what it chose for itself.
+  virtual std::string describe() const = 0;
+
+  /// The wall: a signed distance grid (negative inside, dims >= 2 each).
+  virtual void set_field(const ScalarGrid& field) = 0;
+  /// Appends particles; returns the index of the first.
+  virtual size_t add_particles(const std::vector<Particle>& particles) = 0;
+  size_t add_particle(const Particle& p) { return add_particles({p}); }
+  /// Removes particles by index, largest first, each swapped with the last.
+  virtual void remove_particles(std::vector<size_t> indices) = 0;
+  /// Runs (or enqueues) k steps.
+  virtual void run_steps(size_t k) = 0;
+  /// The records of every step since the last call.
+  virtual std::vector<StepRecord> read_history() = 0;
+  /// All particles: positions, velocities, radii, masses, ids.
+  virtual std::vector<Particle> read_particles() = 0;
+  /// Renumbers the particles for locality where the engine gains by it;
+  /// returns new index -> old index.
+  virtual std::vector<size_t> sort_by_cells() = 0;
+  /// Indices of particles flagged outside the field since the last clear_flags().
+  virtual std::vector<size_t> flagged_particles() = 0;
+  virtual void clear_flags() = 0;
+  virtual size_t size() const = 0;          ///< particle count
+  virtual uint64_t steps_done() const = 0;  ///< steps run (or enqueued)
+};
+
+}  // namespace pfill
