@@ -77,7 +77,7 @@ struct FillOptions {
   KineticEnergySettings ke;
   CollisionCountSettings collisions;
   BlockedSitesSettings blocked;
-  double birth_stop_share = 0.003;  ///< waves: pass 1 also ends when the births of the last `blocked.patience` steps are at most this share of the particles
+  double birth_stop_share = 0.01;  ///< waves: pass 1 also ends when the births of the last `blocked.patience` steps are at most this share of the particles (1%: births past it only overfill what the finish then deletes; 0.3% before)
   uint64_t max_steps = 0;       ///< step budget of pass 1; 0: 100 per expected particle + 20,000
 
   // Pass 2 and settling.
