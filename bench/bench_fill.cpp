@@ -6,7 +6,7 @@
 //   bench_fill [--mesh spot|bunny|torus|all] [--seeds N] [--stop-compare]
 //              [--device SPEC] [--json FILE]
 //   bench_fill --scale [--sizes 4000,16000,64000,100000] [--mesh spot|bunny|torus]
-//              [--sites N] [--birth-every K] [--device SPEC] [--json FILE]
+//              [--sites N] [--birth-every K] [--sort-every S] [--device SPEC] [--json FILE]
 //
 // --stop-compare fills spot once per stopping signal (blocked, ke,
 // collisions) and reports what each gives.
@@ -17,7 +17,9 @@
 // overlap, containment and peak memory per count, then the exponent of
 // time against the count (least squares over log-log, and between
 // neighbouring sizes). --sites / --birth-every run another birth schedule
-// (e.g. --sites 2 --birth-every 3, the schedule before births in waves).
+// (e.g. --sites 2 --birth-every 3, the schedule before births in waves);
+// --sort-every S renumbers the particles along the cells every S steps of
+// the passes before the finish (FillOptions::sort_every; 0: never).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -116,7 +118,7 @@ struct ScaleRun {
 /// One fill of `mesh` at about `count` particles, in a child process (the
 /// parent never opens OpenCL, so the fork is safe): the child sends its
 /// figures back as one line of JSON, peak RSS included.
-nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int birth_every,
+nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int birth_every, int sort_every,
                                   const std::string& device) {
   int fds[2];
   if (pipe(fds) != 0) throw Error("bench_fill: cannot make a pipe");
@@ -131,6 +133,7 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
       o.count = count;
       o.sites = sites;
       o.birth_every = birth_every;
+      if (sort_every >= 0) o.sort_every = sort_every;
       o.device = device;
       o.colour = ColourOptions{ColourMode::None, {}};
       const auto t0 = std::chrono::steady_clock::now();
@@ -211,7 +214,7 @@ double pass_seconds(const nlohmann::ordered_json& j, const std::string& name) {
 }
 
 nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vector<size_t>& sizes, int sites,
-                                 int birth_every, const std::string& device) {
+                                 int birth_every, int sort_every, const std::string& device) {
   std::printf("scale: %s, sites %s, birth every %s\n", c.name.c_str(),
               sites >= 0 ? std::to_string(sites).c_str() : "auto",
               birth_every ? std::to_string(birth_every).c_str() : "auto");
@@ -222,7 +225,7 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
   nlohmann::ordered_json runs = nlohmann::ordered_json::array();
   std::vector<double> xs, ys, cpu;
   for (size_t n : sizes) {
-    const nlohmann::ordered_json j = scale_fill(mesh, n, sites, birth_every, device);
+    const nlohmann::ordered_json j = scale_fill(mesh, n, sites, birth_every, sort_every, device);
     runs.push_back(j);
     if (j.contains("error")) {
       std::printf("| %zu | failed: %s |\n", n, j["error"].get<std::string>().c_str());
@@ -270,7 +273,7 @@ int main(int argc, char** argv) {
   int seeds = 1;
   bool stop_compare = false, scale = false;
   std::vector<size_t> sizes{4000, 16000, 64000, 100000};
-  int sites = -1, birth_every = 0;
+  int sites = -1, birth_every = 0, sort_every = -1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     auto value = [&]() -> std::string {
@@ -286,11 +289,12 @@ int main(int argc, char** argv) {
     else if (a == "--sizes") sizes = parse_sizes(value());
     else if (a == "--sites") sites = std::stoi(value());
     else if (a == "--birth-every") birth_every = std::stoi(value());
+    else if (a == "--sort-every") sort_every = std::stoi(value());
     else {
       std::fprintf(stderr, "usage: bench_fill [--mesh spot|bunny|torus|all] [--seeds N] [--stop-compare] "
                            "[--device SPEC] [--json FILE]\n"
                            "       bench_fill --scale [--sizes 4000,16000,64000,100000] [--mesh spot|bunny|torus] "
-                           "[--sites N] [--birth-every K] [--device SPEC] [--json FILE]\n");
+                           "[--sites N] [--birth-every K] [--sort-every S] [--device SPEC] [--json FILE]\n");
       return 2;
     }
   }
@@ -310,7 +314,7 @@ int main(int argc, char** argv) {
         continue;
       }
       if (scale) {
-        runs.push_back(run_scale(c, mesh, sizes, sites, birth_every, device));
+        runs.push_back(run_scale(c, mesh, sizes, sites, birth_every, sort_every, device));
         continue;
       }
       for (int s = 1; s <= seeds; ++s) runs.push_back(run_case(c, mesh, s, StopCriterion::Blocked, device));

@@ -3,6 +3,7 @@
 // only when there is not, and counted; and whole fills at tight bounds.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine_fixtures.hpp"
@@ -114,5 +115,38 @@ TEST_CASE("fill a sphere at a 0.1% bound and at none: bound met, every sphere in
     CHECK(m.count <= 270);
     CHECK(m.largest_hole < 1.0);
     CHECK(m.min_distance >= 1 - 0.5 * std::max(bound, 1e-4));
+  }
+}
+
+TEST_CASE("finish: each sphere keeps its id through the finish's renumbering along the cells") {
+  // The lattice of the first case, ids in the reverse of the cells' order,
+  // so that renumbering moves every sphere; no deletions, no holes.
+  std::vector<Particle> ps = lattice(1.9 * kR, 0.6 * kBall);
+  for (size_t i = 0; i < ps.size(); ++i) ps[i].id = 1000 + (ps.size() - i);
+  std::reverse(ps.begin(), ps.end());
+  FinishSettings s;
+  s.radius = kR;
+  s.max_overlap = 0.001;
+  s.hole_rounds = 0;
+  FinishStats stats;
+  const ParticleSet out = finish_packing(shared_device(), base_params(), ball_field(), ps, s, stats);
+  REQUIRE(stats.removed == 0);
+  REQUIRE(out.ids.size() == ps.size());
+  // Every id once, and each sphere ends nearer to where its own sphere
+  // started than to any other start (the lattice spreads out a little as
+  // its overlaps of 10% r are undone).
+  std::vector<uint64_t> seen = out.ids;
+  std::sort(seen.begin(), seen.end());
+  CHECK(std::adjacent_find(seen.begin(), seen.end()) == seen.end());
+  for (size_t k = 0; k < out.size(); ++k) {
+    const uint64_t id = out.ids[k];
+    REQUIRE(id > 1000);
+    REQUIRE(id <= 1000 + ps.size());
+    const Particle& start = ps[id - 1001];
+    CHECK(start.id == id);
+    size_t nearest = 0;
+    for (size_t i = 1; i < ps.size(); ++i)
+      if (length(out.positions[k] - ps[i].position) < length(out.positions[k] - ps[nearest].position)) nearest = i;
+    CHECK(ps[nearest].id == id);
   }
 }

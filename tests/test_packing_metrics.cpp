@@ -2,12 +2,15 @@
 // answers are known.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/shapes.hpp"
 #include "pfill/voids.hpp"
+#include "fill/centre_grid.hpp"
 
 using namespace pfill;
 
@@ -141,6 +144,86 @@ TEST_CASE("find_holes climbs to a hole between grid points and takes only holes 
   const std::vector<Vec3> holes = find_holes(holed, sdf, r, 1.99 * r, 100);
   REQUIRE(holes.size() == 1);
   CHECK(length(holes[0] - taken) < 0.02 * r);
+}
+
+TEST_CASE("CentreGrid finds every centre within a cell of a point: dense cells, hashed sparse sets, later inserts") {
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  auto cloud = [&](size_t n, double scale) {
+    std::vector<Vec3> ps;
+    for (size_t i = 0; i < n; ++i) ps.push_back(Vec3(u(rng), u(rng), u(rng)) * scale);
+    return ps;
+  };
+  const double cell = 0.13;
+  // 2,000 centres in a unit box (dense cells), 20 in a box 1,000 times wider (hashed).
+  for (const std::vector<Vec3>& centres : {cloud(2000, 1.0), cloud(20, 1000.0)}) {
+    CentreGrid grid(centres, cell);
+    std::vector<Vec3> all = centres;
+    const std::vector<Vec3> later = cloud(50, 1.2);  // inserted after construction, some outside the dense box
+    for (const Vec3& p : later) {
+      grid.insert(p, static_cast<uint32_t>(all.size()));
+      all.push_back(p);
+    }
+    std::vector<Vec3> queries = cloud(300, 1.3);
+    queries.insert(queries.end(), centres.begin(), centres.begin() + 10);
+    for (const Vec3& q : queries) {
+      std::vector<uint32_t> found;
+      grid.for_near(q, [&](uint32_t id) { found.push_back(id); });
+      std::vector<uint32_t> sorted = found;
+      std::sort(sorted.begin(), sorted.end());
+      CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());  // each once
+      for (uint32_t id = 0; id < all.size(); ++id)
+        if (length(all[id] - q) < cell) CHECK(std::binary_search(sorted.begin(), sorted.end(), id));
+      // any_near stops at the first centre its test accepts, and says whether one did.
+      const bool near = std::any_of(found.begin(), found.end(), [&](uint32_t id) { return length(all[id] - q) < 0.5 * cell; });
+      int asked = 0;
+      CHECK(grid.any_near(q, [&](uint32_t id) {
+              ++asked;
+              return length(all[id] - q) < 0.5 * cell;
+            }) == near);
+      CHECK(asked <= static_cast<int>(found.size()));
+    }
+  }
+}
+
+TEST_CASE("find_holes in a random packing: every hole deep enough, clear of every centre and of the other holes") {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(-0.5, 0.5);
+  const double r = 0.05;
+  ParticleSet loose;  // random sequential addition: spheres 2r apart, with holes left between them
+  for (int tries = 0; tries < 4000; ++tries) {
+    const Vec3 p(u(rng), u(rng), u(rng));
+    bool clear = true;
+    for (const Vec3& q : loose.positions) clear = clear && length(p - q) >= 2 * r;
+    if (!clear) continue;
+    loose.positions.push_back(p);
+    loose.radii.push_back(r);
+  }
+  ScalarGrid sdf;  // a box [-0.6, 0.6]^3 at 0.33 r, sampled analytically
+  sdf.spacing = r / 3;
+  const int n = static_cast<int>(std::ceil(1.2 / sdf.spacing)) + 1;
+  sdf.origin = {-0.6, -0.6, -0.6};
+  sdf.dims = {n, n, n};
+  sdf.values.resize(static_cast<size_t>(n) * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const Vec3 p = sdf.point(i, j, k);
+        sdf.values[sdf.index(i, j, k)] =
+            static_cast<float>(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) - 0.55);
+      }
+  const double clearance = 1.9 * r;
+  const std::vector<Vec3> holes = find_holes(loose, sdf, r, clearance, 1000);
+  REQUIRE(holes.size() > 10);  // a random sequential packing (~0.3) is full of them
+  for (size_t h = 0; h < holes.size(); ++h) {
+    const Vec3& p = holes[h];
+    CHECK(std::max({std::abs(p.x), std::abs(p.y), std::abs(p.z)}) <= 0.55 - r + 1e-6);
+    double nearest = 1e9;
+    for (const Vec3& q : loose.positions) nearest = std::min(nearest, length(p - q));
+    CHECK(nearest >= clearance);
+    for (size_t g = 0; g < h; ++g) CHECK(length(p - holes[g]) >= clearance);
+  }
+  CHECK(find_holes(loose, sdf, r, clearance, 5).size() == 5);
 }
 
 TEST_CASE("largest empty hole and closest centres of a lattice, full and with a sphere taken out") {

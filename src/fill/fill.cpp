@@ -542,7 +542,8 @@ class FillRun {
   /// Renumbers the particles along the cells (Engine::sort_by_cells): the
   /// births scatter them through memory, and near in space near in memory
   /// makes every kernel of a step read from cache (a fill of spot ran
-  /// about 20% more steps a second with this every 1,024 steps).
+  /// about 20% more steps a second with this every 1,024 steps; every 256,
+  /// pass 1 of spot -n 16000 took another 15% less kernel time a step).
   void renumber_along_cells() {
     const std::vector<size_t> order = engine_->sort_by_cells();
     if (newest_ != Engine::kGone)

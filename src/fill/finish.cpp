@@ -128,6 +128,10 @@ class Finisher {
   /// falling, or the budget runs out; removes any the wall flagged outside.
   void relax() {
     ++stats_.rounds;
+    // Near in space, near in memory (Engine::sort_by_cells): the pass-1
+    // order, holes' newcomers at the end and the removals' swaps otherwise
+    // scatter neighbours through memory, which costs most at large counts.
+    engine_->sort_by_cells();
     uint64_t done = 0;
     uint32_t pairs = 0, fewest = UINT32_MAX;
     int since_fewer = 0;

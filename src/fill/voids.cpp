@@ -45,12 +45,20 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
     Vec3 p;
     double d;
   };
+  const double least = std::max(0.0, clearance - miss);
+  const double surely_near2 = least * least * (1 - 1e-9);  // a centre closer than this: d < clearance - miss
   std::vector<std::vector<Candidate>> slices(static_cast<size_t>(std::max(0, sdf.dims[2])));
   tbb::parallel_for(0, sdf.dims[2], [&](int k) {  // (no hole is taken yet: `nearest` only reads)
     for (int j = 0; j < sdf.dims[1]; ++j)
       for (int i = 0; i < sdf.dims[0]; ++i) {
         if (-sdf.at(i, j, k) < radius) continue;
         const Vec3 p = sdf.point(i, j, k);
+        // Most points have a centre well within the clearance: one found ends the search.
+        if (grid.any_near(p, [&](uint32_t id) {
+              const Vec3 v = particles.positions[id] - p;
+              return dot(v, v) < surely_near2;
+            }))
+          continue;
         const double d = nearest(p);
         if (d >= clearance - miss) slices[static_cast<size_t>(k)].push_back({p, d});
       }
