@@ -36,7 +36,10 @@ namespace pfill {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kExpectedPacking = 0.62;  // what physics fills reach (DESIGN.md)
+// The packing a fill reaches at a bound on the overlaps (a fraction of r),
+// so that -n N gives about N: 0.60 with no overlap to speak of (spot and the
+// bunny at the default 0.1%: 0.59-0.61), 0.63 at 5% (spot -n 4000: 0.628).
+double expected_packing(double max_overlap) { return 0.60 + 0.56 * std::min(max_overlap, 0.05); }
 constexpr size_t kMaxParticles = 100'000'000;
 // Steps between waves: slower waves compress more gently and pack denser
 // (spot, -n 16,000: every 24 steps 0.642, every 48 0.646), while pass 1
@@ -53,13 +56,13 @@ constexpr size_t kWavesFrom = 2000;
 // particles. Particles keep the rest distance apart, so with a count the
 // spacing, not the sphere, is what must fit (the report's Fig. 4).
 double particle_radius(const FillOptions& o, double volume) {
-  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count, o.max_overlap) / o.rest_distance;
 }
 
 // About how many particles fill `volume` when they keep `half_rest` (half
-// the rest distance) from each other.
-double expected_count(double volume, double half_rest) {
-  return kExpectedPacking * volume / (4.0 / 3.0 * kPi * half_rest * half_rest * half_rest);
+// the rest distance) from each other, overlapping by at most `max_overlap`.
+double expected_count(double volume, double half_rest, double max_overlap) {
+  return expected_packing(max_overlap) * volume / (4.0 / 3.0 * kPi * half_rest * half_rest * half_rest);
 }
 
 using Clock = std::chrono::steady_clock;
@@ -109,7 +112,7 @@ class FillRun {
 
     radius_ = particle_radius(o_, volume_);
     if (!(radius_ > 0)) throw Error("give a particle radius (-r) or a count (-n)");
-    const double expected = expected_count(volume_, radius_ * o_.rest_distance);
+    const double expected = expected_count(volume_, radius_ * o_.rest_distance, o_.max_overlap);
     if (expected > kMaxParticles)
       throw Error("a radius of " + fmt(radius_) + " would give about " + fmt(expected) +
                   " particles, more than pfill handles (" + fmt(kMaxParticles) +
@@ -655,9 +658,9 @@ class FillRun {
 
 }  // namespace
 
-double fill_radius_for_count(double volume, size_t count) {
+double fill_radius_for_count(double volume, size_t count, double max_overlap) {
   if (!(volume > 0) || count == 0) return 0;
-  return std::cbrt(3.0 * kExpectedPacking * volume / (4.0 * kPi * static_cast<double>(count)));
+  return std::cbrt(3.0 * expected_packing(max_overlap) * volume / (4.0 * kPi * static_cast<double>(count)));
 }
 
 namespace {
@@ -686,7 +689,7 @@ void refuse_stray_vertices(const Mesh& mesh, double volume, const FillOptions& o
   if (!(radius > 0) || mesh.positions.empty()) return;
   // Too many particles is the first thing to say (the run's check says it).
   const double half_rest = radius * o.rest_distance;
-  if (o.count > kMaxParticles || expected_count(volume, half_rest) > kMaxParticles)
+  if (o.count > kMaxParticles || expected_count(volume, half_rest, o.max_overlap) > kMaxParticles)
     return;
   const Vec3 size = mesh.bounds().size();
   const double spacing = o.field_spacing * radius, margin = 2 * radius + 3 * spacing;
