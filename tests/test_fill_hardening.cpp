@@ -75,7 +75,8 @@ TEST_CASE("far from the origin: the physics runs in local coordinates, the resul
 }
 
 TEST_CASE("tiny and huge meshes fill like a unit one") {
-  const double unit_radius = fill_radius_for_count(diagnose(make_icosphere(1.0, 3)).volume(), 250);
+  const MeshDiagnostics unit = diagnose(make_icosphere(1.0, 3));
+  const double unit_radius = fill_radius_for_count(unit.volume(), unit.surface_area, 250);
   for (double scale : {1e-6, 1e6}) {
     CAPTURE(scale);
     const FillResult r = fill(moved(make_icosphere(1.0, 3), {}, scale), small_fill(250));

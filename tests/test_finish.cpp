@@ -111,8 +111,8 @@ TEST_CASE("fill a sphere at a 0.1% bound and at none: bound met, every sphere in
     CHECK(m.max_overlap <= std::max(bound, 1e-4));
     CHECK(m.contained_share == 1.0);
     CHECK(m.max_penetration <= 0.01);
-    CHECK(m.count >= 200);  // packing 0.5 and up at this radius
-    CHECK(m.count <= 270);
+    CHECK(m.count >= 225);  // -n gives about N (the radius allows for the bound and the wall): 250 +- 10%
+    CHECK(m.count <= 275);
     CHECK(m.largest_hole < 1.0);
     CHECK(m.min_distance >= 1 - 0.5 * std::max(bound, 1e-4));
   }
@@ -149,4 +149,21 @@ TEST_CASE("finish: each sphere keeps its id through the finish's renumbering alo
       if (length(out.positions[k] - ps[i].position) < length(out.positions[k] - ps[nearest].position)) nearest = i;
     CHECK(ps[nearest].id == id);
   }
+}
+
+TEST_CASE("the radius for a count allows for the bound and the wall") {
+  // A unit ball: volume 4.19, surface 12.6; 4,000 spheres.
+  const double v = 4.0 / 3.0 * 3.14159265358979, a = 4 * 3.14159265358979;
+  const double tight = fill_radius_for_count(v, a, 4000, 0.001);
+  // Packing 0.60-0.62 at the 0.1% bound (fills of a sphere: 0.604 at 2,000).
+  const double packing = 4000 * std::pow(tight, 3);  // N r^3 / R^3
+  CHECK(packing > 0.59);
+  CHECK(packing < 0.63);
+  // A looser bound packs denser: larger spheres for the same count.
+  CHECK(fill_radius_for_count(v, a, 4000, 0.05) > tight * 1.01);
+  // More wall (the same volume inside a larger surface) packs looser: smaller spheres.
+  CHECK(fill_radius_for_count(v, 3 * a, 4000, 0.001) < tight * 0.99);
+  // No count, no volume: no radius.
+  CHECK(fill_radius_for_count(v, a, 0) == 0);
+  CHECK(fill_radius_for_count(0, a, 4000) == 0);
 }

@@ -165,7 +165,10 @@ struct FillResult {
 /// pfill::Cancelled when FillOptions::cancelled returns true.
 FillResult fill(const Mesh& mesh, const FillOptions& options);
 
-/// Radius that gives about `count` particles in `volume` for a physics fill.
-double fill_radius_for_count(double volume, size_t count);
+/// Radius that gives about `count` particles in `volume` (enclosed by a
+/// surface of `area`: spheres pack looser along it) for a physics fill
+/// whose overlaps are bounded by `max_overlap` (a fraction of r; looser
+/// bounds pack denser).
+double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001);
 
 }  // namespace pfill

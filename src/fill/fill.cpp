@@ -36,7 +36,17 @@ namespace pfill {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kExpectedPacking = 0.62;  // what physics fills reach (DESIGN.md)
+// The packing a fill reaches at a bound on the overlaps (a fraction of r),
+// so that -n N gives about N. Looser bounds pack denser; spheres pack looser
+// against the wall, whose share of the inside is about `wall` = S r / V
+// (surface S, volume V). Fitted to spot at the 0.1% bound (0.551 at -n 500,
+// 0.597 at 4,000), at 5% (0.636 at 4,000), and a sphere (0.566 at 250,
+// 0.604 at 2,000).
+double expected_packing(double max_overlap, double wall) {
+  // (a few spheres in a thin part: the fit says nothing there; 0.3 keeps the radius sensible)
+  return std::max(0.3, 0.643 + 0.79 * std::min(max_overlap, 0.05) - 0.19 * wall);
+}
+
 constexpr size_t kMaxParticles = 100'000'000;
 // Steps between waves: slower waves compress more gently and pack denser
 // (spot, -n 16,000: every 24 steps 0.642, every 48 0.646), while pass 1
@@ -49,17 +59,18 @@ constexpr int kWaveEvery = 48;
 // 8.2 s against 12.9 s; the bunny 11 s against 19 s).
 constexpr size_t kWavesFrom = 2000;
 
-// The radius of a fill of `volume`: -r, or the one that gives about -n
-// particles. Particles keep the rest distance apart, so with a count the
-// spacing, not the sphere, is what must fit (the report's Fig. 4).
-double particle_radius(const FillOptions& o, double volume) {
-  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, o.count) / o.rest_distance;
+// The radius of a fill of `volume` and surface `area`: -r, or the one that
+// gives about -n particles. Particles keep the rest distance apart, so with
+// a count the spacing, not the sphere, is what must fit (the report's Fig. 4).
+double particle_radius(const FillOptions& o, double volume, double area) {
+  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, area, o.count, o.max_overlap) / o.rest_distance;
 }
 
 // About how many particles fill `volume` when they keep `half_rest` (half
-// the rest distance) from each other.
-double expected_count(double volume, double half_rest) {
-  return kExpectedPacking * volume / (4.0 / 3.0 * kPi * half_rest * half_rest * half_rest);
+// the rest distance) from each other, overlapping by at most `max_overlap`.
+double expected_count(double volume, double area, double half_rest, double max_overlap) {
+  return expected_packing(max_overlap, area * half_rest / volume) * volume /
+         (4.0 / 3.0 * kPi * half_rest * half_rest * half_rest);
 }
 
 using Clock = std::chrono::steady_clock;
@@ -107,9 +118,9 @@ class FillRun {
     volume_ = d.volume();
     if (!(volume_ > 0)) throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
 
-    radius_ = particle_radius(o_, volume_);
+    radius_ = particle_radius(o_, volume_, d.surface_area);
     if (!(radius_ > 0)) throw Error("give a particle radius (-r) or a count (-n)");
-    const double expected = expected_count(volume_, radius_ * o_.rest_distance);
+    const double expected = expected_count(volume_, d.surface_area, radius_ * o_.rest_distance, o_.max_overlap);
     if (expected > kMaxParticles)
       throw Error("a radius of " + fmt(radius_) + " would give about " + fmt(expected) +
                   " particles, more than pfill handles (" + fmt(kMaxParticles) +
@@ -662,17 +673,22 @@ class FillRun {
 
 }  // namespace
 
-double fill_radius_for_count(double volume, size_t count) {
+double fill_radius_for_count(double volume, double area, size_t count, double max_overlap) {
   if (!(volume > 0) || count == 0) return 0;
-  return std::cbrt(3.0 * kExpectedPacking * volume / (4.0 * kPi * static_cast<double>(count)));
+  // The packing depends on the radius a little (the wall's share): a few rounds settle it.
+  const double n = static_cast<double>(count);
+  double r = std::cbrt(3.0 * 0.6 * volume / (4.0 * kPi * n));
+  for (int k = 0; k < 6; ++k)
+    r = std::cbrt(3.0 * expected_packing(max_overlap, std::max(area, 0.0) * r / volume) * volume / (4.0 * kPi * n));
+  return r;
 }
 
 namespace {
 
 // "No particle fits", with the mesh's depth measured on a field of 64
 // samples across, and the way out that fits the options given.
-std::string no_room_message(const Mesh& mesh, double volume, const FillOptions& o) {
-  const double radius = particle_radius(o, volume);
+std::string no_room_message(const Mesh& mesh, double volume, double area, const FillOptions& o) {
+  const double radius = particle_radius(o, volume, area);
   const Boundary boundary(mesh);
   SdfOptions so(spacing_for_resolution(mesh.bounds(), 64));
   so.band = std::numeric_limits<double>::infinity();
@@ -688,12 +704,12 @@ std::string no_room_message(const Mesh& mesh, double volume, const FillOptions& 
 // radius (a stray vertex far from the rest makes one) would build a field
 // of billions of samples or fill nothing: say which vertex lies farthest
 // from the median of all, and stop.
-void refuse_stray_vertices(const Mesh& mesh, double volume, const FillOptions& o) {
-  const double radius = particle_radius(o, volume);
+void refuse_stray_vertices(const Mesh& mesh, double volume, double area, const FillOptions& o) {
+  const double radius = particle_radius(o, volume, area);
   if (!(radius > 0) || mesh.positions.empty()) return;
   // Too many particles is the first thing to say (the run's check says it).
   const double half_rest = radius * o.rest_distance;
-  if (o.count > kMaxParticles || expected_count(volume, half_rest) > kMaxParticles)
+  if (o.count > kMaxParticles || expected_count(volume, area, half_rest, o.max_overlap) > kMaxParticles)
     return;
   const Vec3 size = mesh.bounds().size();
   const double spacing = o.field_spacing * radius, margin = 2 * radius + 3 * spacing;
@@ -738,7 +754,7 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
       options.on_frame(step, moved);
     };
   const MeshDiagnostics d = diagnose(local);  // once: the winding-number sweep takes a while on big meshes
-  refuse_stray_vertices(mesh, d.volume(), options);
+  refuse_stray_vertices(mesh, d.volume(), d.surface_area, options);
   FillRun run(local, d, o);
   FillResult result;
   try {
@@ -747,7 +763,7 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
     // The run's field is as coarse as the radius is large: measure the
     // depth on a fine field before saying that no particle fits.
     if (std::string(e.what()).rfind("no particle of radius", 0) != 0) throw;
-    throw Error(no_room_message(local, d.volume(), o));
+    throw Error(no_room_message(local, d.volume(), d.surface_area, o));
   }
   for (Vec3& p : result.particles.positions) p += centre;
   for (BirthSite& site : result.sites) site.position += centre;

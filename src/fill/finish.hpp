@@ -22,12 +22,16 @@ struct FinishSettings {
   double time_step = 0.03;      ///< relaxation step, in tau of the inflated potential
   double damping = 0.01;        ///< share of every velocity lost each relaxation step (little: inertia crosses the soft modes faster)
   int chunk_steps = 100;        ///< relaxation steps between reads of the step history
-  uint64_t relax_steps = 1500;  ///< most steps of one relaxation (it stops earlier when the spheres stall)
-  int patience = 5;             ///< a relaxation has stalled when the pairs over the bound fell by under 5% in this many reads
+  uint64_t relax_steps = 1500;  ///< most steps of one relaxation (it stops earlier when the spheres stall; one still improving at the end runs again, a round of its own)
+  int patience = 5;             ///< a relaxation has stalled when the pairs over the bound fell by under `stall_fall` in this many reads
+  double stall_fall = 0.125;    ///< share; a slower creep (~9% in 500 steps) ends far sooner by a few deletions
+  double run_on_share = 0.05;   ///< a relaxation out of steps while still falling runs on, while the pairs over the bound are this share of the spheres
+  double jam_share = 0.1;       ///< after a stall, the most pressed of this share of the jams lose a sphere each (plus `removal_share` of the excess)
   int max_rounds = 30;          ///< relaxations, each followed by removals or insertions
   double removal_share = 0.5;   ///< share of the estimated excess removed after a jammed relaxation
   double hole_clearance = 1.9;  ///< a hole takes a sphere where the nearest centre is this many r away
   int hole_rounds = 3;          ///< rounds of insertions into holes (0: none, not even where a sphere fits)
+  double hole_round_share = 0.005;  ///< a round of insertions runs only when it finds holes for this share of the spheres
   double fit_clearance = 2;     ///< then, a hole where the nearest centre is this many r away takes a sphere as it is
   uint64_t first_id = 1;        ///< ids given to the spheres inserted into holes, counting up (Particle::id)
   std::function<bool()> cancelled;  ///< polled at each read of the step history; true: throws pfill::Cancelled
