@@ -222,10 +222,17 @@ struct Engine::Impl {
   }
 
   // Room for `want` particles: doubling, state copied on the device.
+  // The next capacity: doubling up to kDoubleUpTo particles, then a
+  // quarter more (a multiple of 8: `advance` reads whole octets), so
+  // that large fills do not hold up to twice the buffers they use (every
+  // particle slot costs ~300 bytes on the device, the lists most).
+  static constexpr size_t kDoubleUpTo = size_t(1) << 16;
+  static size_t grown_capacity(size_t cap) { return cap < kDoubleUpTo ? 2 * cap : (cap + cap / 4 + 7) / 8 * 8; }
+
   void reserve(size_t want) {
     if (want <= capacity) return;
     size_t cap = std::max<size_t>(capacity, 64);
-    while (cap < want) cap *= 2;
+    while (cap < want) cap = grown_capacity(cap);
     // CPU list rows hold byte offsets (16 j: see PF_ENTRY in cpu_lists.cl),
     // which the AVX-512 gathers take as signed 32-bit.
     if (!gpu_form && cap > (size_t(1) << 27))
@@ -352,9 +359,9 @@ const EngineConstants& Engine::constants() const { return impl_->constants; }
 size_t Engine::size() const { return impl_->n; }
 uint64_t Engine::steps_done() const { return impl_->steps; }
 
-void Engine::set_field(const ScalarGrid& field) {
+void Engine::set_field(const ScalarGrid& field, double wall_offset) {
   Impl& m = *impl_;
-  m.wall.set(field);
+  m.wall.set(field, static_cast<float>(wall_offset));
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());

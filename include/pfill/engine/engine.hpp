@@ -61,7 +61,9 @@ class Engine {
 
   /// The wall: a signed distance grid (negative inside, dims >= 2 each).
   /// Its box becomes the neighbour-grid domain. Uploaded once (blocking).
-  void set_field(const ScalarGrid& field);
+  /// `wall_offset` is added to every value (as a float) on the way up: the
+  /// wall moved in by it, without a second copy of the field on the host.
+  void set_field(const ScalarGrid& field, double wall_offset = 0);
 
   /// Appends particles; returns the index of the first. Radii must be in
   /// (0, max_radius]. One particle is one small launch (no blocking); more
