@@ -276,6 +276,13 @@ CLI::App* add_fill_command(CLI::App& app) {
                   "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
                   "this share of the particles")
       ->capture_default_str();
+  cmd->add_option("--max-steps", o.max_steps,
+                  "Step budget of pass 1 (0 = automatic: 100 a particle + 20,000); when it runs out, pass 1 ends "
+                  "with what is in (for trials of large fills)")
+      ->capture_default_str();
+  cmd->add_option("--settle-steps", o.settle_budget, "Most steps of the settle pass (it ends sooner at rest)")
+      ->capture_default_str()
+      ->check(whole_number(1, UINT64_MAX));
   cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
       ->capture_default_str();
   cmd->add_option("--void-clearance", o.void_clearance,

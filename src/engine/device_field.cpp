@@ -20,26 +20,26 @@ DeviceField::DeviceField(Device& device, bool as_image) : device_(device), as_im
   }
 }
 
-void DeviceField::set(const ScalarGrid& field, float offset) {
+void DeviceField::set(const ScalarGrid& field, bool borrow) {
   if (field.dims[0] < 2 || field.dims[1] < 2 || field.dims[2] < 2)
     throw Error("engine: the distance field needs at least 2 samples along each axis");
   if (field.values.size() != static_cast<size_t>(field.dims[0]) * field.dims[1] * field.dims[2])
     throw Error("engine: the distance field has " + std::to_string(field.values.size()) +
                 " values for its dimensions; rebuild it");
   if (!(field.spacing > 0)) throw Error("engine: the distance field's spacing must be > 0");
-  // The values go up as they are, or with the offset added a slab at a
-  // time: a moved wall never needs a second whole field on the host (on
-  // PoCL the device's copy is host memory too, up to 256 MiB a field).
   if (as_image_) {
-    image_ = make_image(field.dims[0], field.dims[1], field.dims[2], offset == 0.0f ? field.values.data() : nullptr);
-    if (offset != 0.0f) write_image_with_offset(field, offset);
+    image_ = make_image(field.dims[0], field.dims[1], field.dims[2], field.values.data());
+  } else if (borrow && device_.info().type == "CPU") {
+    // The device's memory is the host's: the kernels read the caller's
+    // values in place (read-only), not a second copy of up to 256 MiB.
+    cl_int err = CL_SUCCESS;
+    buffer_ = cl::Buffer(device_.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, field.bytes(),
+                         const_cast<float*>(field.values.data()), &err);
+    check_cl(err, "clCreateBuffer", "sdf (shared)");
   } else {
     buffer_ = device_.make_buffer(field.bytes(), "sdf");
-    if (offset == 0.0f)
-      check_cl(device_.queue().enqueueWriteBuffer(buffer_, CL_TRUE, 0, field.bytes(), field.values.data()),
-               "clEnqueueWriteBuffer", "sdf");
-    else
-      write_buffer_with_offset(field, offset);
+    check_cl(device_.queue().enqueueWriteBuffer(buffer_, CL_TRUE, 0, field.bytes(), field.values.data()),
+             "clEnqueueWriteBuffer", "sdf");
   }
   origin.s[0] = static_cast<float>(field.origin.x);
   origin.s[1] = static_cast<float>(field.origin.y);
@@ -47,37 +47,6 @@ void DeviceField::set(const ScalarGrid& field, float offset) {
   origin.s[3] = static_cast<float>(1 / field.spacing);
   for (int a = 0; a < 3; ++a) dims.s[a] = field.dims[a];
   dims.s[3] = 1;
-}
-
-namespace {
-constexpr size_t kSlabFloats = size_t(1) << 20;  // 4 MiB of staging per write
-}
-
-void DeviceField::write_buffer_with_offset(const ScalarGrid& field, float offset) {
-  std::vector<float> slab;
-  for (size_t first = 0; first < field.size(); first += kSlabFloats) {
-    const size_t count = std::min(kSlabFloats, field.size() - first);
-    slab.resize(count);
-    for (size_t k = 0; k < count; ++k) slab[k] = field.values[first + k] + offset;
-    check_cl(device_.queue().enqueueWriteBuffer(buffer_, CL_TRUE, first * sizeof(float), count * sizeof(float),
-                                                slab.data()),
-             "clEnqueueWriteBuffer", "sdf");
-  }
-}
-
-void DeviceField::write_image_with_offset(const ScalarGrid& field, float offset) {
-  const size_t layer = static_cast<size_t>(field.dims[0]) * field.dims[1];
-  const size_t layers = std::max<size_t>(1, kSlabFloats / layer);
-  std::vector<float> slab;
-  for (size_t z = 0; z < static_cast<size_t>(field.dims[2]); z += layers) {
-    const size_t depth = std::min(layers, field.dims[2] - z);
-    slab.resize(depth * layer);
-    for (size_t k = 0; k < slab.size(); ++k) slab[k] = field.values[z * layer + k] + offset;
-    const cl::array<cl::size_type, 3> at{0, 0, z};
-    const cl::array<cl::size_type, 3> size{static_cast<size_t>(field.dims[0]), static_cast<size_t>(field.dims[1]), depth};
-    check_cl(device_.queue().enqueueWriteImage(image_, CL_TRUE, at, size, 0, 0, slab.data()), "clEnqueueWriteImage",
-             "sdf image");
-  }
 }
 
 // The field as a CL_R / CL_FLOAT 3D image, checked against the device's
@@ -100,7 +69,7 @@ cl::Image3D DeviceField::make_image(int nx, int ny, int nz, const float* values)
     throw Error("engine: device '" + device_.info().name +
                 "' has no CL_R / CL_FLOAT 3D image format; unset EngineParams::field_image");
   cl_int err = CL_SUCCESS;
-  cl::Image3D image(device_.context(), CL_MEM_READ_ONLY | (values ? CL_MEM_COPY_HOST_PTR : 0), cl::ImageFormat(CL_R, CL_FLOAT),
+  cl::Image3D image(device_.context(), CL_MEM_READ_ONLY | CL_MEM_COPY_HOST_PTR, cl::ImageFormat(CL_R, CL_FLOAT),
                     static_cast<size_t>(nx), static_cast<size_t>(ny), static_cast<size_t>(nz), 0, 0,
                     const_cast<float*>(values), &err);
   check_cl(err, "clCreateImage", "sdf image");

@@ -13,9 +13,9 @@ class DeviceField {
  public:
   /// No walls yet (a 2x2x2 placeholder, dims.w = 0).
   DeviceField(Device& device, bool as_image);
-  /// Checks and uploads `field` (walls on), `offset` added to every value
-  /// (the wall moved in by it).
-  void set(const ScalarGrid& field, float offset = 0.0f);
+  /// Checks and uploads `field` (walls on). `borrow`: on CPU devices the
+  /// buffer uses `field`'s values in place (Engine::share_field).
+  void set(const ScalarGrid& field, bool borrow = false);
 
   bool as_image() const { return as_image_; }
   const cl::Buffer& buffer() const { return buffer_; }
@@ -24,10 +24,7 @@ class DeviceField {
   cl_int4 dims{};      // (nx, ny, nz, has walls)
 
  private:
-  /// `values` null: uninitialised (written after).
   cl::Image3D make_image(int nx, int ny, int nz, const float* values) const;
-  void write_buffer_with_offset(const ScalarGrid& field, float offset);
-  void write_image_with_offset(const ScalarGrid& field, float offset);
 
   Device& device_;
   bool as_image_;

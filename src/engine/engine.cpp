@@ -138,6 +138,8 @@ struct Engine::Impl {
     const EngineConstants& c = constants;
     std::map<std::string, std::string> d = base_defines(c);
     if (params.field_image) d["PF_FIELD_IMAGE"] = "1";
+    // (as a float: the sum a shifted copy of the field would hold)
+    if (params.wall_offset != 0) d["PF_WALL_OFFSET"] = flt(static_cast<float>(params.wall_offset));
     size_t root = 1;  // about sqrt(PF_WG): two short serial runs
     while (4 * root * root <= group_size) root *= 2;
     d["PF_NEWTON"] = newton ? "1" : "0";
@@ -280,6 +282,8 @@ struct Engine::Impl {
     records->reserve(level1_count(cap), steps);
   }
 
+  void set_field(const ScalarGrid& field, bool borrow);
+
   // The neighbour grid over `box` (the lists are then rebuilt).
   void set_domain(const Box3& box) {
     cells.set_domain(box);
@@ -359,9 +363,13 @@ const EngineConstants& Engine::constants() const { return impl_->constants; }
 size_t Engine::size() const { return impl_->n; }
 uint64_t Engine::steps_done() const { return impl_->steps; }
 
-void Engine::set_field(const ScalarGrid& field, double wall_offset) {
-  Impl& m = *impl_;
-  m.wall.set(field, static_cast<float>(wall_offset));
+void Engine::set_field(const ScalarGrid& field) { impl_->set_field(field, false); }
+
+void Engine::share_field(const ScalarGrid& field) { impl_->set_field(field, true); }
+
+void Engine::Impl::set_field(const ScalarGrid& field, bool borrow) {
+  Impl& m = *this;
+  m.wall.set(field, borrow);
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());

@@ -189,7 +189,7 @@ class FillRun {
     params_.max_step_fraction = o_.max_step_fraction;
     params_.skin_sigma = o_.skin;
     engine_ = std::make_unique<Engine>(*device_, params_);
-    engine_->set_field(field_);
+    engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
     top_speed_ = engine_->constants().max_speed;
   }
 

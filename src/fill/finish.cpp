@@ -49,10 +49,6 @@ class Finisher {
     // its wall moves in by as much, so that centres stay r inside.
     engine_radius_ = s.radius * (1 - 0.5 * s.max_overlap);
     deep_ = s.radius * (1 + s.wall_margin);
-    // The wall also keeps `wall_margin` r more: the field, interpolated,
-    // misses some of the surface's bends, which the exact check then finds.
-    // (An offset added on the upload: no second copy of the field here.)
-    const double wall_offset = s.radius * (1 + s.wall_margin) - engine_radius_;
     EngineParams p = base;
     p.cutoff_sigma = 0;  // purely repulsive: attraction would pull spheres together
     p.rest_distance = 2 * s.radius * (1 + inflation);
@@ -64,8 +60,12 @@ class Finisher {
     p.damping = -std::log(1 - s.damping) / p.dt;
     p.history_capacity = std::max<size_t>(p.history_capacity, static_cast<size_t>(s.chunk_steps) + 8);
     p.radius = engine_radius_;
+    // The wall also keeps `wall_margin` r more: the field, interpolated,
+    // misses some of the surface's bends, which the exact check then finds.
+    // (The kernels add the offset as they read the field: no shifted copy.)
+    p.wall_offset = s.radius * (1 + s.wall_margin) - engine_radius_;
     engine_ = std::make_unique<Engine>(device, p);
-    engine_->set_field(field, wall_offset);
+    engine_->share_field(field);  // field_ outlives the engine
   }
 
   ParticleSet run(std::vector<Particle> ps) {

@@ -61,9 +61,12 @@ class Engine {
 
   /// The wall: a signed distance grid (negative inside, dims >= 2 each).
   /// Its box becomes the neighbour-grid domain. Uploaded once (blocking).
-  /// `wall_offset` is added to every value (as a float) on the way up: the
-  /// wall moved in by it, without a second copy of the field on the host.
-  void set_field(const ScalarGrid& field, double wall_offset = 0);
+  /// (EngineParams::wall_offset moves the wall in.)
+  void set_field(const ScalarGrid& field);
+  /// As set_field, but on CPU devices, whose memory is the host's, the
+  /// device reads `field`'s values in place instead of a copy (up to 256
+  /// MiB saved): `field` must then stay unchanged and outlive the engine.
+  void share_field(const ScalarGrid& field);
 
   /// Appends particles; returns the index of the first. Radii must be in
   /// (0, max_radius]. One particle is one small launch (no blocking); more

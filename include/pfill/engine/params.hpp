@@ -43,6 +43,10 @@ struct EngineParams {
   double skin_sigma = 0;
   Box3 domain;                     ///< cell-grid box when no field is set (particles outside still work, slower)
   size_t history_capacity = 4096;  ///< per-step records kept on the device between reads
+  /// The wall moved in by this (mesh units): added to every value of the
+  /// field (as a float) as the kernels read it, so that a moved wall needs
+  /// no second copy of the field (the finish's: up to 256 MiB).
+  double wall_offset = 0;
   size_t work_group = 128;         ///< preferred work-group size (a power of two; the device may lower it)
   /// Wall field storage: false (default) a global buffer; true a CL_R/CL_FLOAT
   /// 3D image read by a NEAREST sampler at the 8 corners with the buffer
