@@ -18,7 +18,11 @@
 __constant sampler_t pf_field_sampler = CLK_NORMALIZED_COORDS_FALSE | CLK_ADDRESS_CLAMP_TO_EDGE | CLK_FILTER_NEAREST;
 
 float pf_field_at(__read_only image3d_t f, int i, int j, int k) {
+#ifdef PF_WALL_OFFSET
+  return read_imagef(f, pf_field_sampler, (int4)(i, j, k, 0)).x + PF_WALL_OFFSET;
+#else
   return read_imagef(f, pf_field_sampler, (int4)(i, j, k, 0)).x;
+#endif
 }
 
 /* pf_sdf_sample (physics.cl) with the values read from the image. */
@@ -42,7 +46,7 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 
 #ifndef PF_FIELD_IMAGE
 /* The field's values at 8 grid indices. */
-float8 pf_field_gather8(__global const float* f, int8 at) {
+float8 pf_field_gather8_raw(__global const float* f, int8 at) {
 #if defined(PF_X86_AVX512)
   return __builtin_ia32_gather3siv8sf((float8)(0.0f), (const void*)(size_t)f, at, (uchar)0xff, 4);
 #else
@@ -52,6 +56,15 @@ float8 pf_field_gather8(__global const float* f, int8 at) {
 #pragma unroll
   for (uint l = 0; l < 8u; ++l) v[l] = f[a[l]];
   return vload8(0, v);
+#endif
+}
+
+/* ... with the wall's offset (physics.cl PF_SDF_AT). */
+float8 pf_field_gather8(__global const float* f, int8 at) {
+#ifdef PF_WALL_OFFSET
+  return pf_field_gather8_raw(f, at) + PF_WALL_OFFSET;
+#else
+  return pf_field_gather8_raw(f, at);
 #endif
 }
 #endif

@@ -210,6 +210,16 @@ PF_DEFINE_KICK_DRIFT(pf_kick_drift, PF_REAL)
   }
 PF_DEFINE_TRILINEAR(pf_trilinear, PF_REAL)
 
+/* A sample of the wall's field as the kernels read it: with PF_WALL_OFFSET
+ * (EngineParams::wall_offset) the wall moved in by that much, added to each
+ * sample as it is read (the same float sum as a shifted copy would hold), so
+ * a moved wall needs no second copy of the field. */
+#ifdef PF_WALL_OFFSET
+#define PF_SDF_AT(values, at) ((values)[at] + PF_WALL_OFFSET)
+#else
+#define PF_SDF_AT(values, at) ((values)[at])
+#endif
+
 /* Trilinear sample of the signed distance grid (values[i + nx (j + ny k)] at
  * origin + spacing (i, j, k); negative inside) at point p, and in g[0..2] the
  * exact gradient of the trilinear interpolant. Points outside the grid take
@@ -222,9 +232,9 @@ PF_FN PF_REAL pf_sdf_sample(PF_GLOBAL const float* values, int nx, int ny, int n
   const int i = min((int)floor(gx), nx - 2), j = min((int)floor(gy), ny - 2), k = min((int)floor(gz), nz - 2);
   const PF_REAL tx = gx - (PF_REAL)i, ty = gy - (PF_REAL)j, tz = gz - (PF_REAL)k;
   const int base = i + nx * (j + ny * k), sy = nx, sz = nx * ny;
-  const PF_REAL v000 = values[base], v100 = values[base + 1];
-  const PF_REAL v010 = values[base + sy], v110 = values[base + sy + 1];
-  const PF_REAL v001 = values[base + sz], v101 = values[base + sz + 1];
-  const PF_REAL v011 = values[base + sy + sz], v111 = values[base + sy + sz + 1];
+  const PF_REAL v000 = PF_SDF_AT(values, base), v100 = PF_SDF_AT(values, base + 1);
+  const PF_REAL v010 = PF_SDF_AT(values, base + sy), v110 = PF_SDF_AT(values, base + sy + 1);
+  const PF_REAL v001 = PF_SDF_AT(values, base + sz), v101 = PF_SDF_AT(values, base + sz + 1);
+  const PF_REAL v011 = PF_SDF_AT(values, base + sy + sz), v111 = PF_SDF_AT(values, base + sy + sz + 1);
   return pf_trilinear(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, inv_spacing, g);
 }

@@ -453,6 +453,84 @@ TEST_CASE("engine: the same input gives bit-identical particles (births and remo
   CHECK(differ == 0);
 }
 
+TEST_CASE("engine: a wall offset moves the wall as a shifted copy of the field does, bit for bit") {
+  // The finish moves its wall in by an offset the kernels add as they read
+  // the field (EngineParams::wall_offset), reading the fill's field in
+  // place (share_field), instead of a shifted copy of it: the same sums.
+  EngineParams p = sphere_params(0);
+  const double R = 3.0, offset = 0.3;
+  const ScalarGrid field = sphere_grid(R, 0.2);
+  ScalarGrid shifted = field;
+  for (float& v : shifted.values) v += static_cast<float>(offset);
+  const auto ps = random_particles(200, 0.5, R, 1.0, 1.0, 31, [R](const Vec3& x) { return sphere_distance(x, R); });
+  auto run = [&](const EngineParams& q, bool share) {
+    Engine engine(shared_device(), q);
+    if (share)
+      engine.share_field(field);
+    else
+      engine.set_field(shifted);
+    engine.add_particles(ps);
+    engine.run_steps(300);
+    return engine.read_particles();
+  };
+  EngineParams moved = p;
+  moved.wall_offset = offset;
+  const auto a = run(p, false), b = run(moved, true);
+  REQUIRE(a.size() == b.size());
+  size_t differ = 0;
+  double deepest_wall = 0;  // the moved wall keeps every centre r + offset inside the sphere
+  for (size_t i = 0; i < a.size(); ++i) {
+    if (a[i].position != b[i].position || a[i].velocity != b[i].velocity) ++differ;
+    deepest_wall = std::max(deepest_wall, length(b[i].position) + b[i].radius + offset);
+  }
+  CHECK(differ == 0);
+  CHECK(deepest_wall < R + 0.02);
+  // and the wall did move: without the offset the same run ends elsewhere
+  const auto c = run(p, true);
+  size_t moved_by_offset = 0;
+  for (size_t i = 0; i < a.size(); ++i) moved_by_offset += a[i].position != c[i].position;
+  CHECK(moved_by_offset > 0);
+  EngineParams bad = p;
+  bad.wall_offset = std::nan("");
+  CHECK_THROWS_AS(Engine(shared_device(), bad), Error);
+}
+
+TEST_CASE("engine: past 65,536 particles the buffers grow by a quarter, and the step runs as before") {
+  // Capacity doubles up to 65,536, then grows by a quarter (a million
+  // particles would otherwise hold buffers for two): a capacity that is no
+  // power of two must step like any other.
+  EngineParams p = sphere_params(0);
+  const Vec3 h{26, 26, 26};
+  std::vector<Particle> lattice;
+  for (int k = 0; k < 42; ++k)
+    for (int j = 0; j < 42; ++j)
+      for (int i = 0; i < 42; ++i) {
+        Particle q;
+        q.position = Vec3(i, j, k) * 1.2 - Vec3(24.6, 24.6, 24.6);
+        q.velocity = Vec3((i % 3) - 1, (j % 3) - 1, (k % 3) - 1) * 0.01;
+        q.radius = 0.5;
+        lattice.push_back(q);
+      }
+  REQUIRE(lattice.size() == 74088);
+  Engine engine(shared_device(), p);
+  engine.set_field(box_grid(h, 1.0));
+  engine.add_particles(std::vector<Particle>(lattice.begin(), lattice.begin() + 65000));
+  engine.run_steps(2);
+  engine.add_particles(std::vector<Particle>(lattice.begin() + 65000, lattice.end()));  // 65,536 -> 81,920
+  engine.run_steps(3);
+  const auto history = engine.read_history();
+  REQUIRE(history.size() == 5);
+  CHECK(history.back().particles == lattice.size());
+  CHECK(history.back().cell_overflow == 0);
+  CHECK(history.back().colliding_pairs == 0);  // 1.2 apart, barely moving: nobody touches
+  const auto after = engine.read_particles();
+  REQUIRE(after.size() == lattice.size());
+  double moved = 0;
+  for (size_t i = 0; i < after.size(); ++i) moved = std::max(moved, length(after[i].position - lattice[i].position));
+  CHECK(moved < 0.01);
+  CHECK(engine.flagged_particles().empty());
+}
+
 TEST_CASE("engine: the history survives more steps than its capacity, and records come in order") {
   EngineParams p = sphere_params(0);
   p.history_capacity = 16;

@@ -7,6 +7,7 @@
 
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
+#include "pfill/fill_report.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/shapes.hpp"
 
@@ -56,6 +57,13 @@ TEST_CASE("fill a sphere: every sphere inside, overlaps under 5% r, dense") {
 TEST_CASE("fill a cube") {
   const FillResult r = fill(make_cube(1.0, 2), small_fill(400));
   check_quality(r, 0.48, 0.70);
+  // Its peak memory: the process's, so at least the field the fill held;
+  // in the report too.
+#if defined(__linux__) || defined(__APPLE__)
+  CHECK(r.peak_memory >= r.field_bytes);
+  CHECK(r.field_bytes > 0);
+#endif
+  CHECK(fill_report_json(r, "cube", 1, "cube.ply")["peak_memory_bytes"] == r.peak_memory);
 }
 
 TEST_CASE("fill a torus with the report's schedule: two sites spread round the ring") {

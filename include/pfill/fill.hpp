@@ -34,6 +34,7 @@ struct FillProgress {
   double steps_per_second = 0;
   double elapsed = 0;           ///< seconds since the fill began
   double remaining = -1;        ///< estimated seconds left; < 0 when unknown
+  size_t peak_memory = 0;       ///< the process's peak resident bytes so far (peak_resident_bytes)
 };
 
 struct FillOptions {
@@ -157,6 +158,9 @@ struct FillResult {
   std::string device;
   double seconds = 0;
   uint64_t steps = 0;
+  /// The process's peak resident bytes when the fill ended (peak_resident_bytes:
+  /// on PoCL the device's buffers included; 0 where the platform does not say).
+  size_t peak_memory = 0;
   std::vector<std::string> warnings;  ///< about the mesh (open, inside-out)
 };
 

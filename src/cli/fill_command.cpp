@@ -71,10 +71,11 @@ class ProgressPrinter {
     }
     if (new_phase && !tty_) std::fprintf(stderr, "pfill: %s\n", p.phase.c_str());
     char line[256];
-    std::snprintf(line, sizeof line, "%-7s %9s particles (~%s when full)  KE %-9.3g pairs %-6u %7.0f steps/s  %5.0fs%s",
+    std::snprintf(line, sizeof line, "%-7s %9s particles (~%s when full)  KE %-9.3g pairs %-6u %7.0f steps/s  %5.0fs%s%s",
                   p.phase.c_str(), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,
                   p.colliding_pairs, p.steps_per_second, p.elapsed,
-                  p.remaining >= 0 ? ("  ~" + num(p.remaining, 2) + "s left").c_str() : "");
+                  p.remaining >= 0 ? ("  ~" + num(p.remaining, 2) + "s left").c_str() : "",
+                  p.peak_memory > 0 ? ("  peak " + thousands(p.peak_memory >> 20) + " MiB").c_str() : "");
     if (tty_) {
       std::fprintf(stderr, "\r%-120s", line);
       open_ = true;
@@ -208,6 +209,9 @@ void run_fill(FillArgs& a) {
   for (const PassStats& p : r.passes)
     passes += (passes.empty() ? "" : ", ") + p.name + " " + thousands(p.steps) + " steps " + num(p.seconds, 3) + "s";
   std::printf("  time            %.1fs (field %.1fs; %s)\n", r.seconds, r.field_seconds, passes.c_str());
+  if (r.peak_memory > 0)
+    std::printf("  memory          peak %s MiB resident (the distance field %s MiB)\n",
+                thousands(r.peak_memory >> 20).c_str(), thousands(r.field_bytes >> 20).c_str());
 }
 
 }  // namespace
@@ -274,6 +278,13 @@ CLI::App* add_fill_command(CLI::App& app) {
                   "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
                   "this share of the particles")
       ->capture_default_str();
+  cmd->add_option("--max-steps", o.max_steps,
+                  "Step budget of pass 1 (0 = automatic: 100 a particle + 20,000); when it runs out, pass 1 ends "
+                  "with what is in (for trials of large fills)")
+      ->capture_default_str();
+  cmd->add_option("--settle-steps", o.settle_budget, "Most steps of the settle pass (it ends sooner at rest)")
+      ->capture_default_str()
+      ->check(whole_number(1, UINT64_MAX));
   cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
       ->capture_default_str();
   cmd->add_option("--void-clearance", o.void_clearance,

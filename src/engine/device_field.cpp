@@ -20,7 +20,7 @@ DeviceField::DeviceField(Device& device, bool as_image) : device_(device), as_im
   }
 }
 
-void DeviceField::set(const ScalarGrid& field) {
+void DeviceField::set(const ScalarGrid& field, bool borrow) {
   if (field.dims[0] < 2 || field.dims[1] < 2 || field.dims[2] < 2)
     throw Error("engine: the distance field needs at least 2 samples along each axis");
   if (field.values.size() != static_cast<size_t>(field.dims[0]) * field.dims[1] * field.dims[2])
@@ -29,6 +29,13 @@ void DeviceField::set(const ScalarGrid& field) {
   if (!(field.spacing > 0)) throw Error("engine: the distance field's spacing must be > 0");
   if (as_image_) {
     image_ = make_image(field.dims[0], field.dims[1], field.dims[2], field.values.data());
+  } else if (borrow && device_.info().type == "CPU") {
+    // The device's memory is the host's: the kernels read the caller's
+    // values in place (read-only), not a second copy of up to 256 MiB.
+    cl_int err = CL_SUCCESS;
+    buffer_ = cl::Buffer(device_.context(), CL_MEM_READ_ONLY | CL_MEM_USE_HOST_PTR, field.bytes(),
+                         const_cast<float*>(field.values.data()), &err);
+    check_cl(err, "clCreateBuffer", "sdf (shared)");
   } else {
     buffer_ = device_.make_buffer(field.bytes(), "sdf");
     check_cl(device_.queue().enqueueWriteBuffer(buffer_, CL_TRUE, 0, field.bytes(), field.values.data()),

@@ -13,8 +13,9 @@ class DeviceField {
  public:
   /// No walls yet (a 2x2x2 placeholder, dims.w = 0).
   DeviceField(Device& device, bool as_image);
-  /// Checks and uploads `field` (walls on).
-  void set(const ScalarGrid& field);
+  /// Checks and uploads `field` (walls on). `borrow`: on CPU devices the
+  /// buffer uses `field`'s values in place (Engine::share_field).
+  void set(const ScalarGrid& field, bool borrow = false);
 
   bool as_image() const { return as_image_; }
   const cl::Buffer& buffer() const { return buffer_; }

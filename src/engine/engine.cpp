@@ -48,8 +48,12 @@ std::string Engine::describe() const { return impl_->state.choices.describe(); }
 size_t Engine::size() const { return impl_->state.n; }
 uint64_t Engine::steps_done() const { return impl_->state.steps; }
 
-void Engine::set_field(const ScalarGrid& field) {
-  impl_->state.wall.set(field);
+void Engine::set_field(const ScalarGrid& field) { set_field(field, false); }
+
+void Engine::share_field(const ScalarGrid& field) { set_field(field, true); }
+
+void Engine::set_field(const ScalarGrid& field, bool borrow) {
+  impl_->state.wall.set(field, borrow);
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());

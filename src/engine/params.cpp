@@ -47,6 +47,7 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.inner_lists != InnerLists::on || p.inner_skin_sigma < skin_sigma,
           "inner_skin_sigma must be below skin_sigma for inner lists");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
+  require(std::isfinite(p.wall_offset), "wall_offset must be a finite number");
   require(p.work_group >= 1, "work_group must be >= 1");
   require(p.force_buffers <= 1024, "force_buffers must be <= 1024 (0: one per compute unit)");
 

@@ -57,6 +57,8 @@ ReferenceEngine::ReferenceEngine(const EngineParams& params) : params_(params), 
 
 void ReferenceEngine::set_field(const ScalarGrid& field) {
   field_ = field;
+  // EngineParams::wall_offset: the kernels add it to each sample they read
+  for (float& v : field_.values) v += static_cast<float>(params_.wall_offset);
   has_field_ = true;
 }
 

@@ -93,6 +93,8 @@ std::map<std::string, std::string> shared_defines(const EngineState& s) {
       {"PF_WG", std::to_string(s.choices.work_group) + "u"},
       {"PF_WG_ROOT", std::to_string(root) + "u"}};
   if (p.field_image) d["PF_FIELD_IMAGE"] = "1";
+  // (as a float: the sum a shifted copy of the field would hold)
+  if (p.wall_offset != 0) d["PF_WALL_OFFSET"] = flt(static_cast<float>(p.wall_offset));
   return d;
 }
 
@@ -167,11 +169,20 @@ void StepKernels::insert_cells(bool force) {
   s.run(insert, insert_items());
 }
 
+// The next capacity: doubling up to kDoubleUpTo particles, then a quarter
+// more (a multiple of 8: `advance` reads whole octets), so that large fills
+// do not hold up to twice the buffers they use (every particle slot costs
+// ~300 bytes on the device, the lists most).
+static size_t grown_capacity(size_t cap) {
+  constexpr size_t kDoubleUpTo = size_t(1) << 16;
+  return cap < kDoubleUpTo ? 2 * cap : (cap + cap / 4 + 7) / 8 * 8;
+}
+
 void StepKernels::reserve(size_t want) {
   const size_t capacity = s.particles.capacity();
   if (want <= capacity) return;
   size_t cap = std::max<size_t>(capacity, 64);
-  while (cap < want) cap *= 2;
+  while (cap < want) cap = grown_capacity(cap);
   if (cap > max_particles())
     throw Error("engine: " + std::to_string(want) + " particles are more than the " + form_name() + " form holds (" +
                 std::to_string(max_particles()) + "); use a larger radius");

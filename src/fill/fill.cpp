@@ -28,6 +28,7 @@
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
+#include "pfill/peak_memory.hpp"
 #include "pfill/sdf.hpp"
 #include "fill/finish.hpp"
 #include "fill/particle_set_of.hpp"
@@ -99,6 +100,7 @@ class FillRun {
     verify();
     result_.seconds = seconds_since(start_);
     result_.steps = fill_steps_ + relax_steps_;
+    result_.peak_memory = peak_resident_bytes();
     return std::move(result_);
   }
 
@@ -199,7 +201,7 @@ class FillRun {
     params_.skin_sigma = o_.skin;
     engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
     if (o_.log) o_.log(engine_->describe());
-    engine_->set_field(field_);
+    engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
     top_speed_ = engine_->constants().max_speed;
   }
 
@@ -355,7 +357,7 @@ class FillRun {
     const auto t = Clock::now();
     phase_ = "finish";
     fill_steps_ = engine_->steps_done();
-    const std::vector<Particle> ps = engine_->read_particles();
+    std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
     if (!device_) {  // FillOptions::engine: no OpenCL engine for the finish
       particles_ = to_particle_set(ps);
@@ -365,11 +367,12 @@ class FillRun {
     report_particles(ps.size(), 0, 0);  // the phase starts (progress lines, time left)
     const FinishSettings s = finish_settings();
     FinishStats stats;
-    particles_ = finish_packing(*device_, params_, field_, ps, s, stats, [&](size_t n, uint32_t pairs) {
+    particles_ = finish_packing(*device_, params_, field_, std::move(ps), s, stats, [&](size_t n, uint32_t pairs) {
       relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
       report_particles(n, 0, pairs);
     });
     relax_steps_ = stats.steps;
+    field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
     result_.relief_removed = stats.removed;
     result_.relief_forced = stats.forced;
     result_.relief_rounds = stats.rounds;
@@ -588,6 +591,7 @@ class FillRun {
     last_report_ = Clock::now();
     last_step_ = p.step;
     p.remaining = time_left(p.elapsed, n, p.step);
+    p.peak_memory = peak_resident_bytes();
     o_.progress(p);
   }
 

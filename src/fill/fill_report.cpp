@@ -47,6 +47,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"passes", passes},
           {"steps", r.steps},
           {"seconds", r.seconds},
+          {"peak_memory_bytes", r.peak_memory},
           {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
           {"sites", sites},
           {"warnings", r.warnings}};

@@ -23,6 +23,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
 
 #include "pfill/error.hpp"
 #include "pfill/packing_metrics.hpp"
@@ -50,10 +51,6 @@ class Finisher {
     // its wall moves in by as much, so that centres stay r inside.
     engine_radius_ = s.radius * (1 - 0.5 * s.max_overlap);
     deep_ = s.radius * (1 + s.wall_margin);
-    ScalarGrid wall = field;
-    // The wall also keeps `wall_margin` r more: the field, interpolated,
-    // misses some of the surface's bends, which the exact check then finds.
-    for (float& v : wall.values) v += static_cast<float>(s.radius * (1 + s.wall_margin) - engine_radius_);
     EngineParams p = base;
     p.cutoff_sigma = 0;  // purely repulsive: attraction would pull spheres together
     p.rest_distance = 2 * s.radius * (1 + inflation);
@@ -65,18 +62,22 @@ class Finisher {
     p.damping = -std::log(1 - s.damping) / p.dt;
     p.history_capacity = std::max<size_t>(p.history_capacity, static_cast<size_t>(s.chunk_steps) + 8);
     p.radius = engine_radius_;
+    // The wall also keeps `wall_margin` r more: the field, interpolated,
+    // misses some of the surface's bends, which the exact check then finds.
+    // (The kernels add the offset as they read the field: no shifted copy.)
+    p.wall_offset = s.radius * (1 + s.wall_margin) - engine_radius_;
     engine_ = std::make_unique<Engine>(device, p);
-    engine_->set_field(wall);
+    engine_->share_field(field);  // field_ outlives the engine
   }
 
-  ParticleSet run(const std::vector<Particle>& particles) {
-    std::vector<Particle> ps = particles;
+  ParticleSet run(std::vector<Particle> ps) {
     for (Particle& p : ps) {
       p.velocity = {};
       p.radius = engine_radius_;
       p.mass = 0;
     }
     engine_->add_particles(ps);
+    std::vector<Particle>().swap(ps);  // on the device now
     int holes_done = 0;
     ParticleSet now;
     for (int round = 0;; ++round) {
@@ -287,11 +288,11 @@ double finish_inflation(double max_overlap) {
 }
 
 ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
-                           const std::vector<Particle>& particles, const FinishSettings& settings, FinishStats& stats,
+                           std::vector<Particle> particles, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress) {
   Finisher f(device, base, field, settings, stats);
   f.set_progress(progress);
-  return f.run(particles);
+  return f.run(std::move(particles));
 }
 
 }  // namespace pfill

@@ -52,10 +52,11 @@ struct FinishStats {
 /// wall of `field`; deletes the most compressed spheres only when the
 /// relaxation stalls with overlaps over the bound, inserts spheres into the
 /// holes a sphere fits in, and returns the result. `base` supplies the
-/// potential's shape and the device limits. `progress(n, overlapping pairs)`
+/// potential's shape and the device limits. `particles` is taken by value
+/// (move it in: it is freed once on the device). `progress(n, overlapping pairs)`
 /// is called after every relaxation.
 ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
-                           const std::vector<Particle>& particles, const FinishSettings& settings, FinishStats& stats,
+                           std::vector<Particle> particles, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress = {});
 
 /// The automatic inflation for a bound (fraction of r): a relaxed pair

@@ -57,7 +57,12 @@ class Engine final : public ParticleEngine {
 
   /// The wall: a signed distance grid (negative inside, dims >= 2 each).
   /// Its box becomes the neighbour-grid domain. Uploaded once (blocking).
+  /// (EngineParams::wall_offset moves the wall in.)
   void set_field(const ScalarGrid& field) override;
+  /// As set_field, but on CPU devices, whose memory is the host's, the
+  /// device reads `field`'s values in place instead of a copy (up to 256
+  /// MiB saved): `field` must then stay unchanged and outlive the engine.
+  void share_field(const ScalarGrid& field) override;
 
   /// Appends particles; returns the index of the first. Radii must be in
   /// (0, max_radius]. One particle is one small launch (no blocking); more
@@ -118,6 +123,7 @@ class Engine final : public ParticleEngine {
   std::map<std::string, double> kernel_times();
 
  private:
+  void set_field(const ScalarGrid& field, bool borrow);
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

@@ -36,6 +36,10 @@ struct PhysicsParams {
   double cutoff_sigma = 0;         ///< cutoff in units of sigma (e.g. 2.5); 0: purely repulsive (cutoff at the minimum)
   double restitution = 0.5;        ///< particle-particle restitution in [0, 1] (of the linearised contact; 1: none lost)
   double wall_restitution = 0.5;   ///< particle-wall restitution in [0, 1]
+  /// The wall moved in by this (mesh units): added to every value of the
+  /// field (as a float) as the kernels read it, so that a moved wall needs
+  /// no second copy of the field (the finish's: up to 256 MiB).
+  double wall_offset = 0;
   double damping = 0;              ///< velocity damping rate (1/time): u *= exp(-damping dt) a step
   double dt = 0;                   ///< time step; 0: 0.005 tau, tau = sigma sqrt(m / eps)
   double max_step_fraction = 0.05; ///< no particle moves more than this many sigma in one step

@@ -35,6 +35,9 @@ class ParticleEngine {
 
   /// The wall: a signed distance grid (negative inside, dims >= 2 each).
   virtual void set_field(const ScalarGrid& field) = 0;
+  /// As set_field, but the engine may read `field` in place instead of a
+  /// copy (then `field` must stay unchanged and outlive the engine).
+  virtual void share_field(const ScalarGrid& field) { set_field(field); }
   /// Appends particles; returns the index of the first.
   virtual size_t add_particles(const std::vector<Particle>& particles) = 0;
   size_t add_particle(const Particle& p) { return add_particles({p}); }
