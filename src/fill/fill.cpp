@@ -216,7 +216,8 @@ class FillRun {
     need(o_.rest_distance >= 1, "--rest-distance must be >= 1 (a multiple of the contact distance 2r)");
     need(o_.sites >= -1 && o_.sites <= 64, "--sites must be -1..64 (-1: automatic; 0: births in waves over sites spread inside)");
     need(o_.birth_every >= 0, "--birth-every must be >= 1 (or 0: automatic)");
-    need(o_.birth_stop_share >= 0 && o_.birth_stop_share < 1, "the birth stop share must be in [0, 1)");
+    need(o_.birth_stop_share == -1 || (o_.birth_stop_share >= 0 && o_.birth_stop_share < 1),
+         "the birth stop share must be in [0, 1), or -1 for automatic");
     need(o_.site_spacing >= 0.5, "--site-spacing must be >= 0.5 rest distances");
     need(o_.site_min_depth >= 1, "--site-min-depth must be >= 1 radius");
     need(o_.birth_speed_min >= 0 && o_.birth_speed_max >= o_.birth_speed_min && o_.birth_speed_max <= 1,
@@ -263,7 +264,7 @@ class FillRun {
     // Over many sites a few keep finding room now and then long after the
     // object is full: waves end when births fall to a small share.
     BlockedSitesSettings bs = o_.blocked;
-    bs.share = waves_ ? o_.birth_stop_share : 0;
+    bs.share = !waves_ ? 0 : o_.birth_stop_share >= 0 ? o_.birth_stop_share : o_.max_overlap < 0.01 ? 0.01 : 0.003;
     BlockedSitesTest blocked(bs);
     phase_ = "pass 1";
     bool overfull = false;
