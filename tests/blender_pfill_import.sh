@@ -9,12 +9,8 @@ pfill="$1"
 repo="$2"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
-# The same fill (same seed and options: the same particles) in each format.
-for out in fill.csv fill.ply fill.glb houdini.csv houdini.ply; do
-  names=pfill
-  case "$out" in houdini.*) names=houdini ;; esac
-  "$pfill" fill sphere -n 200 -q --colour depth --attribute-names "$names" -o "$work/$out" >/dev/null
-done
+source "$(dirname "$0")/import_fills.sh"
+write_import_fills "$pfill" "$work" 200
 blender -b --factory-startup --python-exit-code 1 -P "$repo/scripts/blender_pfill_import_check.py" -- \
   "$repo" "$work/fill.csv" "$work/fill.ply" "$work/fill.glb" "$work/fill.csv" "$work/houdini.csv" "$work/houdini.ply" 2>&1 |
   grep -E "^  |^/|blender pfill_import|Error|Traceback|line [0-9]"

@@ -4,12 +4,7 @@
 # a built-in shape name works as the mesh of every subcommand; the export
 # formats and options reach the files. Usage: cli_conventions.sh PFILL_BINARY
 set -uo pipefail
-pfill="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/cli_test_lib.sh" "$1"
 # The particle count of a fill's JSON (no python needed: CI's Debian may lack it).
 particles_of() { grep -m1 '"particles":' "$1" | tr -dc '0-9'; }
 # A JSON document alone: '{' first, '}' last.

@@ -4,12 +4,7 @@
 # Each is refused at once (exit 1 or 2, one line naming the option) and
 # nothing is written. Usage: cli_hardening.sh PFILL_BINARY
 set -uo pipefail
-pfill="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/cli_test_lib.sh" "$1"
 
 # refused PATTERN COMMAND...: non-zero exit within seconds, PATTERN on stderr.
 refused() {

@@ -3,12 +3,7 @@
 # input answered by one line on stderr with exit status 1 (usage: 2) and no
 # output file left behind. Usage: cli_smoke.sh PFILL_BINARY
 set -uo pipefail
-pfill="$1"
-work="$(mktemp -d)"
-trap 'rm -rf "$work"' EXIT
-cd "$work"
-failures=0
-fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+source "$(dirname "$0")/cli_test_lib.sh" "$1"
 
 # expect_error STATUS PATTERN COMMAND...: the exit status, and one error line
 # on stderr that matches PATTERN (progress lines may come before it).

@@ -56,6 +56,15 @@ double worst_overlap(const ParticleSet& s) {
   return worst;
 }
 
+/// The finish at radius kR and `bound`; hole_rounds 0 leaves holes alone.
+FinishSettings settings(double bound, int hole_rounds = FinishSettings{}.hole_rounds) {
+  FinishSettings s;
+  s.radius = kR;
+  s.max_overlap = bound;
+  s.hole_rounds = hole_rounds;
+  return s;
+}
+
 }  // namespace
 
 TEST_CASE("finish: overlapping spheres with room around them are moved apart, none deleted") {
@@ -63,10 +72,7 @@ TEST_CASE("finish: overlapping spheres with room around them are moved apart, no
   // the inner 0.6 of the ball, so there is room to spread.
   const std::vector<Particle> ps = lattice(1.9 * kR, 0.6 * kBall);
   REQUIRE(ps.size() > 30);
-  FinishSettings s;
-  s.radius = kR;
-  s.max_overlap = 0.001;
-  s.hole_rounds = 0;
+  const FinishSettings s = settings(0.001, 0);
   FinishStats stats;
   const ParticleSet out = finish_packing(shared_device(), base_params(), ball_field(), ps, s, stats);
   CHECK(stats.removed == 0);
@@ -81,9 +87,7 @@ TEST_CASE("finish: an over-full ball forces deletions, which are counted, and th
   REQUIRE(ps.size() > 250);
   for (double bound : {0.0, 0.001, 0.05}) {
     CAPTURE(bound);
-    FinishSettings s;
-    s.radius = kR;
-    s.max_overlap = bound;
+    const FinishSettings s = settings(bound);
     FinishStats stats;
     const ParticleSet out = finish_packing(shared_device(), base_params(), ball_field(), ps, s, stats);
     CHECK(stats.removed > 0);
@@ -124,10 +128,7 @@ TEST_CASE("finish: each sphere keeps its id through the finish's renumbering alo
   std::vector<Particle> ps = lattice(1.9 * kR, 0.6 * kBall);
   for (size_t i = 0; i < ps.size(); ++i) ps[i].id = 1000 + (ps.size() - i);
   std::reverse(ps.begin(), ps.end());
-  FinishSettings s;
-  s.radius = kR;
-  s.max_overlap = 0.001;
-  s.hole_rounds = 0;
+  const FinishSettings s = settings(0.001, 0);
   FinishStats stats;
   const ParticleSet out = finish_packing(shared_device(), base_params(), ball_field(), ps, s, stats);
   REQUIRE(stats.removed == 0);
