@@ -18,7 +18,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <deque>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -32,6 +31,7 @@
 #include "pfill/sdf.hpp"
 #include "fill/finish.hpp"
 #include "fill/particle_set_of.hpp"
+#include "fill/time_left.hpp"
 
 namespace pfill {
 namespace {
@@ -266,6 +266,9 @@ class FillRun {
     BlockedSitesSettings bs = o_.blocked;
     bs.share = !waves_ ? 0 : o_.birth_stop_share >= 0 ? o_.birth_stop_share : o_.max_overlap < 0.01 ? 0.01 : 0.003;
     BlockedSitesTest blocked(bs);
+    time_left_ = TimeLeft({waves_, static_cast<double>(result_.expected), static_cast<double>(bs.patience), bs.share,
+                           static_cast<double>(o_.settle_budget)});
+    time_left_.pass1_started(first);
     phase_ = "pass 1";
     bool overfull = false;
     while (!overfull) {
@@ -314,8 +317,7 @@ class FillRun {
       }
     }
     result_.passes.push_back({"pass 1", engine_->steps_done() - first, seconds_since(t)});
-    pass1_end_step_ = engine_->steps_done();
-    rate_samples_.clear();  // later steps cost more: time them afresh
+    time_left_.pass1_ended();
   }
 
   // ---- pass 2: MaxParts = count - 1; top up to it ----
@@ -339,6 +341,7 @@ class FillRun {
     const auto t = Clock::now();
     const uint64_t first = engine_->steps_done();
     phase_ = "settle";
+    time_left_.settle_started(first);
     int calm = 0;
     result_.settle_reason = "the step budget (" + std::to_string(o_.settle_budget) + " steps) ran out";
     while (engine_->steps_done() - first < o_.settle_budget) {
@@ -357,6 +360,7 @@ class FillRun {
   void finish() {
     const auto t = Clock::now();
     phase_ = "finish";
+    time_left_.finish_started(seconds_since(start_));
     fill_steps_ = engine_->steps_done();
     std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
@@ -591,45 +595,10 @@ class FillRun {
     if (dt > 0 && p.step >= last_step_) p.steps_per_second = (p.step - last_step_) / dt;
     last_report_ = Clock::now();
     last_step_ = p.step;
-    p.remaining = time_left(p.elapsed, n, p.step);
+    p.remaining = time_left_.estimate(phase_, p.elapsed, n, p.step, relax_steps_);
     p.peak_memory = peak_resident_bytes();
     o_.progress(p);
   }
-
-  /// Seconds left, or -1 when there is no honest figure. Pass 1: the
-  /// births still to come (to the expected count, 5% over, as pass 1
-  /// ends overfull) at the birth rate of the last half minute. Then the
-  /// passes after it, about kStepsAfterPass1 steps, each as dear as a step
-  /// now (twice, kAfterStepCost), scaled to the expected count (a step
-  /// costs in proportion to the particles). Past that many steps after
-  /// pass 1, -1.
-  double time_left(double elapsed, size_t n, uint64_t step) {
-    if (phase_ != "pass 1" && phase_ != "pass 2" && phase_ != "settle" && phase_ != "finish")
-      return -1;
-    rate_samples_.push_back({elapsed, n, step});
-    while (rate_samples_.size() > 2 && elapsed - rate_samples_[1].elapsed > 30) rate_samples_.pop_front();
-    const RateSample& first = rate_samples_.front();
-    if (elapsed - first.elapsed < 2 || step <= first.step || n == 0) return -1;
-    const double per_step = (elapsed - first.elapsed) / static_cast<double>(step - first.step);
-    const double full = std::max(static_cast<double>(n), 1.05 * static_cast<double>(result_.expected));
-    const double step_when_full = per_step * full / static_cast<double>(n);
-    if (phase_ == "pass 1") {
-      if (n <= first.particles) return -1;
-      const double rate = static_cast<double>(n - first.particles) / (elapsed - first.elapsed);
-      // It ends a patience window after births fade, whatever the count.
-      const double births_left = std::max((full - static_cast<double>(n)) / rate, o_.blocked.patience * per_step);
-      return births_left + kStepsAfterPass1 * kAfterStepCost * step_when_full;
-    }
-    const double after = static_cast<double>(step - pass1_end_step_);
-    return after < kStepsAfterPass1 ? (kStepsAfterPass1 - after) * per_step : -1;
-  }
-
-  /// Steps of settle and the finish together in fills of spot at 4,000
-  /// and 16,000 (about 8,000-15,000); it changes when those passes do.
-  static constexpr double kStepsAfterPass1 = 12000;
-  /// Their steps cost about as much as a step of pass 1 (the finish reads
-  /// positions back once a relaxation, and searches the overlaps then).
-  static constexpr double kAfterStepCost = 1.2;
 
   Mesh mesh_;
   MeshDiagnostics diagnostics_;
@@ -639,13 +608,7 @@ class FillRun {
   Clock::time_point start_ = Clock::now();
   Clock::time_point last_report_ = Clock::now();
   uint64_t last_step_ = 0;
-  struct RateSample {
-    double elapsed;
-    size_t particles;
-    uint64_t step;
-  };
-  std::deque<RateSample> rate_samples_;  ///< for the time-left estimate
-  uint64_t pass1_end_step_ = 0;          ///< progress step count when pass 1 ended
+  TimeLeft time_left_{TimeLeftSchedule{}};  ///< for the progress line's seconds left
   uint64_t last_frame_ = 0;
   double volume_ = 0;
   double radius_ = 0;

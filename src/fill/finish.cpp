@@ -150,10 +150,13 @@ class Finisher {
       if (s_.cancelled && s_.cancelled()) throw Cancelled();
       engine_->run_steps(static_cast<size_t>(s_.chunk_steps));
       done += static_cast<uint64_t>(s_.chunk_steps);
+      stats_.steps += static_cast<uint64_t>(s_.chunk_steps);
       const std::vector<StepRecord> h = engine_->read_history();
       if (h.empty()) break;
       const StepRecord& last = h.back();
       pairs = last.colliding_pairs;  // pairs over the bound (the engine's spheres are smaller by it)
+      // A relaxation of 1e6 spheres takes minutes on a CPU: report as it goes.
+      if (progress_) progress_(engine_->size(), pairs);
       if (pairs == 0) break;
       // Stalled: the count over the bound has not fallen by `stall_fall` for `patience` reads.
       if (pairs < fewest - static_cast<uint32_t>(s_.stall_fall * fewest)) {
@@ -164,7 +167,6 @@ class Finisher {
         break;
       }
     }
-    stats_.steps += done;
     std::vector<size_t> out = engine_->flagged_particles();
     engine_->clear_flags();
     if (!out.empty()) {

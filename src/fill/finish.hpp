@@ -54,7 +54,7 @@ struct FinishStats {
 /// holes a sphere fits in, and returns the result. `base` supplies the
 /// potential's shape and the device limits. `particles` is taken by value
 /// (move it in: it is freed once on the device). `progress(n, overlapping pairs)`
-/// is called after every relaxation.
+/// is called after every read of the step history and every relaxation.
 ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
                            std::vector<Particle> particles, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress = {});
