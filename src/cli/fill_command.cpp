@@ -276,7 +276,7 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--stop-share", o.birth_stop_share,
                   "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
-                  "this share of the particles (-1 = automatic: 0.01 under a --max-overlap below 0.01, else 0.003)")
+                  "this share of the particles (-1 = automatic: 0.03 under a --max-overlap below 0.01, else 0.003)")
       ->capture_default_str();
   cmd->add_option("--max-steps", o.max_steps,
                   "Step budget of pass 1 (0 = automatic: 100 a particle + 20,000); when it runs out, pass 1 ends "

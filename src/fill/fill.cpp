@@ -264,7 +264,7 @@ class FillRun {
     // Over many sites a few keep finding room now and then long after the
     // object is full: waves end when births fall to a small share.
     BlockedSitesSettings bs = o_.blocked;
-    bs.share = !waves_ ? 0 : o_.birth_stop_share >= 0 ? o_.birth_stop_share : o_.max_overlap < 0.01 ? 0.01 : 0.003;
+    bs.share = !waves_ ? 0 : o_.birth_stop_share >= 0 ? o_.birth_stop_share : o_.max_overlap < 0.01 ? 0.03 : 0.003;
     BlockedSitesTest blocked(bs);
     time_left_ = TimeLeft({waves_, static_cast<double>(result_.expected), static_cast<double>(bs.patience), bs.share,
                            static_cast<double>(o_.settle_budget)});

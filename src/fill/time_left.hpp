@@ -45,15 +45,15 @@ class TimeLeft {
   /// go to the full count, among `particles` (see time_left.cpp).
   double pass1_steps_left(double births, double gap, double particles) const;
 
-  /// Steps of pass 1 with waves in fills of spot: 15,648 at 4,000, 18,768
-  /// at 16,000, 16,752 at 100,000, 16,848 at 1e6.
-  static constexpr double kWavePass1Steps = 17000;
+  /// Steps of pass 1 with waves (stop share 3%): spot 12,624-14,160 at
+  /// 4,000, 14,928 at 16,000, 13,536 at 100,000; the bunny 15,552-15,648 at 4,000.
+  static constexpr double kWavePass1Steps = 14000;
   /// A settle step costs about this many steps of pass 1 at the same count
   /// (no births, no read-backs of positions; spot at 100,000 and 1e6).
   static constexpr double kSettleStepCost = 0.75;
-  /// Steps of the finish in fills of spot: 8,600 at 4,000, 10,400 at
-  /// 16,000, 9,500 at 100,000, 17,300 at 1e6; it changes when the finish does.
-  static constexpr double kFinishSteps = 10000;
+  /// Steps of the finish in fills of spot: 3,200-9,700 at 4,000, 7,000 at
+  /// 16,000, 7,800 at 100,000; it changes when the finish does.
+  static constexpr double kFinishSteps = 8000;
   /// A finish step, its rounds' host work included, costs about this many
   /// settle steps (spot: 1.15-1.5 at 4,000, 0.8-1.2 at 100,000 over runs, 1.5 at 1e6).
   static constexpr double kFinishStepCost = 1.3;
