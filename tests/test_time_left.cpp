@@ -103,6 +103,18 @@ TEST_CASE("the finish: its steps so far at their average cost, then no figure pa
   CHECK(t.estimate("finish", 200, 1000, before + 10000, 10000) == -1);
 }
 
+TEST_CASE("the finish's first steps are timed by the settle's, not by the finish's start-up") {
+  TimeLeft t(schedule(true, 1000, 0.01));
+  const size_t n = 1050;
+  t.settle_started(20000);
+  t.estimate("settle", 100, n, 20000, 0);
+  t.estimate("settle", 110, n, 21000, 0);  // 10 ms a step
+  t.finish_started(111);
+  // 100 steps of the finish after 30 s of its start-up (engine, upload, sort).
+  CHECK(t.estimate("finish", 141, n, 21100, 100) ==
+        doctest::Approx((TimeLeft::kFinishSteps - 100) * TimeLeft::kFinishStepCost * 0.01));
+}
+
 TEST_CASE("pass 1 with waves: the steps left count down to the waves' usual total, then follow the births") {
   const double expected = 10000, per_step = 0.002;
   TimeLeft t(schedule(true, expected, 0.01));

@@ -15,10 +15,14 @@ double TimeLeft::estimate(const std::string& phase, double elapsed, size_t parti
   if (phase == "finish" && finished >= kFinishSteps) return -1;
   if (phase == "finish" && finished >= 0.1 * kFinishSteps)
     return (kFinishSteps - finished) * (elapsed - finish_start_) / finished;
+  // The finish's first steps: its start (a new engine, the particles
+  // uploaded and sorted, a round's host work) would pass for slow steps.
+  if (phase == "finish" && settle_step_ > 0) return (kFinishSteps - finished) * kFinishStepCost * settle_step_;
   const Sample& first = samples_.front();
   if (elapsed - first.elapsed < 2 || step <= first.step || particles == 0) return -1;
   const double n = static_cast<double>(particles);
   const double per_step = (elapsed - first.elapsed) / static_cast<double>(step - first.step);
+  if (phase == "settle") settle_step_ = per_step * std::max(n, kOverfill * s_.expected) / n;
   const double full = std::max(n, kOverfill * s_.expected);
   const double settled = phase == "settle" ? static_cast<double>(step - settle_start_) : 0;
   const double settle_left = phase == "finish" ? 0 : std::max(0.0, s_.settle_budget - settled);

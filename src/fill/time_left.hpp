@@ -24,9 +24,9 @@ struct TimeLeftSchedule {
 /// it: what is left of the settle's step budget and kFinishSteps of the
 /// finish, each kFinishStepCost settle steps. Steps are timed over the
 /// last half minute and scaled to the count they will run at (a step costs
-/// about in proportion to the particles). In the finish: its own steps so
-/// far at their average cost, which includes its rounds' host work; past
-/// kFinishSteps, -1.
+/// about in proportion to the particles). In the finish: its first tenth
+/// at the settle's last step cost, then its own steps so far at their
+/// average cost, which includes its rounds' host work; past kFinishSteps, -1.
 class TimeLeft {
  public:
   explicit TimeLeft(const TimeLeftSchedule& s) : s_(s) {}
@@ -71,6 +71,7 @@ class TimeLeft {
   uint64_t pass1_start_ = 0;
   uint64_t settle_start_ = 0;
   double finish_start_ = 0;
+  double settle_step_ = -1;  ///< seconds a settle step took at the full count, last timed
 };
 
 }  // namespace pfill
