@@ -19,10 +19,9 @@ namespace {
 /// fractions carried), ended by BlockedSitesTest: the step it ends at.
 struct FadingBirths {
   double b0, tau;
-  size_t start;
   double carried = 0;
   size_t n;
-  explicit FadingBirths(double b, double t, size_t n0) : b0(b), tau(t), start(n0), n(n0) {}
+  explicit FadingBirths(double b, double t, size_t n0) : b0(b), tau(t), n(n0) {}
   int births_at(uint64_t s) {
     carried += b0 * std::exp(-static_cast<double>(s) / tau);
     const int whole = static_cast<int>(carried);

@@ -22,8 +22,8 @@ double TimeLeft::estimate(const std::string& phase, double elapsed, size_t parti
   if (elapsed - first.elapsed < 2 || step <= first.step || particles == 0) return -1;
   const double n = static_cast<double>(particles);
   const double per_step = (elapsed - first.elapsed) / static_cast<double>(step - first.step);
-  if (phase == "settle") settle_step_ = per_step * std::max(n, kOverfill * s_.expected) / n;
   const double full = std::max(n, kOverfill * s_.expected);
+  if (phase == "settle") settle_step_ = per_step * full / n;
   const double settled = phase == "settle" ? static_cast<double>(step - settle_start_) : 0;
   const double settle_left = phase == "finish" ? 0 : std::max(0.0, s_.settle_budget - settled);
   const double after = (settle_left + kFinishStepCost * (kFinishSteps - finished)) * per_step * full / n *
