@@ -120,22 +120,22 @@ TEST_CASE("options that would make a fill endless or empty are refused before it
   };
   FillOptions o;
   o.birth_clearance = 0.1;
-  refused(o, "--birth-clearance");
+  refused(o, "birth_clearance must");
   o = {};
-  o.blocked.patience = 0;
-  refused(o, "--patience");
+  o.patience = 0;
+  refused(o, "patience must");
   o = {};
-  o.void_rounds = -1;
-  refused(o, "--void-rounds");
+  o.hole_rounds = -1;
+  refused(o, "hole_rounds must");
   o = {};
-  o.site_depth_share = 2;
-  refused(o, "--site-depth");
+  o.site_depth = 2;
+  refused(o, "site_depth must");
   o = {};
   o.time_step = 1e-9;
-  refused(o, "--time-step");
+  refused(o, "time_step must");
   o = {};
-  o.max_step_fraction = 1e-9;
-  refused(o, "--max-step");
+  o.max_step = 1e-9;
+  refused(o, "max_step must");
 }
 
 TEST_CASE("a radius too large for the mesh: the real depth, and the way out for -r") {

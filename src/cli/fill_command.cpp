@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/format.hpp"
@@ -18,6 +20,7 @@
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/fill_report.hpp"
+#include "pfill/fill_settings.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/render.hpp"
@@ -36,11 +39,7 @@ struct FillArgs {
   std::string preview;
   std::string frames;
   uint64_t frame_every = 500;
-  std::string birth;
-  std::string exponents = "12,6";
-  std::string stop = "blocked";
-  std::string colour;
-  std::string birth_speed;
+  std::map<std::string, std::string> settings;  // FillOptions by name (fill_settings.hpp), as typed
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
@@ -65,14 +64,14 @@ class ProgressPrinter {
     const bool new_phase = p.phase != phase_;
     phase_ = p.phase;
     last_ = now;
-    if (p.phase == "field") {  // nothing to count yet
+    if (p.phase == FillPhase::Field) {  // nothing to count yet
       if (new_phase) std::fprintf(stderr, "pfill: building the signed distance field\n");
       return;
     }
-    if (new_phase && !tty_) std::fprintf(stderr, "pfill: %s\n", p.phase.c_str());
+    if (new_phase && !tty_) std::fprintf(stderr, "pfill: %s\n", to_string(p.phase));
     char line[256];
     std::snprintf(line, sizeof line, "%-7s %9s particles (~%s when full)  KE %-9.3g pairs %-6u %7.0f steps/s  %5.0fs%s%s",
-                  p.phase.c_str(), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,
+                  to_string(p.phase), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,
                   p.colliding_pairs, p.steps_per_second, p.elapsed,
                   p.remaining >= 0 ? ("  ~" + num(p.remaining, 2) + "s left").c_str() : "",
                   p.peak_memory > 0 ? ("  peak " + thousands(p.peak_memory >> 20) + " MiB").c_str() : "");
@@ -94,24 +93,9 @@ class ProgressPrinter {
   bool quiet_;
   bool tty_;
   bool open_ = false;
-  std::string phase_;
+  std::optional<FillPhase> phase_;  // none before the first line
   std::chrono::steady_clock::time_point last_{};
 };
-
-Vec3 parse_point(const std::string& text) {
-  Vec3 p;
-  char extra = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &p.x, &p.y, &p.z, &extra) != 3 || !is_finite(p))
-    throw Error("--birth '" + text + "': give three numbers X,Y,Z");
-  return p;
-}
-
-void parse_exponents(const std::string& text, FillOptions& o) {
-  char extra = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf%c", &o.exponent_a, &o.exponent_b, &extra) != 2 ||
-      !(o.exponent_a > o.exponent_b && o.exponent_b > 0))
-    throw Error("--exponents '" + text + "': give A,B with A > B > 0 (default 12,6)");
-}
 
 // Fails before a long fill, not after it, when an output cannot be written.
 void check_output_folder(const std::string& path, const char* what) {
@@ -140,16 +124,6 @@ void run_fill(FillArgs& a) {
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
   check_output_folder(a.preview, "the preview");
   check_output_folder(a.report, "the report");
-  if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
-  parse_exponents(a.exponents, a.options);
-  a.options.stop = parse_stop_criterion(a.stop);
-  if (!a.birth_speed.empty()) {
-    char extra = 0;
-    if (std::sscanf(a.birth_speed.c_str(), "%lf,%lf%c", &a.options.birth_speed_min, &a.options.birth_speed_max,
-                    &extra) != 2)
-      throw Error("--birth-speed '" + a.birth_speed + "': give MIN,MAX as fractions of the top speed (e.g. 0.2,0.5)");
-  }
-  if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
   if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
 
   ProgressPrinter printer(a.quiet);
@@ -199,9 +173,9 @@ void run_fill(FillArgs& a) {
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
   std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
-              thousands(r.relief_rounds).c_str(), thousands(r.voids_filled).c_str(),
-              thousands(r.relief_removed).c_str(),
-              r.relief_forced ? (" (" + thousands(r.relief_forced) + " when the rounds ran out)").c_str() : "");
+              thousands(r.finish_rounds).c_str(), thousands(r.holes_filled).c_str(),
+              thousands(r.finish_removed).c_str(),
+              r.finish_forced ? (" (" + thousands(r.finish_forced) + " when the rounds ran out)").c_str() : "");
   std::printf("  removed         %s flagged outside, %s by the exact check (%s moved in)\n",
               thousands(r.lost_outside).c_str(), thousands(r.containment.removed).c_str(),
               thousands(r.containment.moved).c_str());
@@ -216,89 +190,30 @@ void run_fill(FillArgs& a) {
 
 }  // namespace
 
-CLI::App* add_fill_command(CLI::App& app) {
+CLI::App* add_fill_command(CLI::App& app, bool show_all) {
   auto a = std::make_shared<FillArgs>();
-  FillOptions& o = a->options;
   CLI::App* cmd = app.add_subcommand("fill", "Fill a mesh with particles (no mesh: a built-in shape)");
+  const std::string details = show_all ? "Output details" : "";  // shown by --help-all
+  cmd->add_flag("--help-all", "Also show the tuning options and the output details (all accepted always)");
   cmd->add_option("mesh", a->mesh,
                   "Mesh file: glTF/GLB, OBJ, STL, PLY, OFF, SMF, FBX, DAE, ...; or a built-in shape name (torus, "
                   "sphere, cube)");
   cmd->add_option("--builtin", a->builtin, "Built-in shape when no mesh is given: torus, sphere, cube")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_option("-o,--output", a->output,
                   "Output file; format from the extension: .ply .glb .csv .vtp, .data (LAMMPS read_data, "
                   "atom_style sphere), .xyzr (Yade ymport.text) (default NAME_particles.ply here)");
-  cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units")->check(positive_number());
-  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius, allowing for --rest-distance; default 4000)")
-      ->check(whole_number(1, SIZE_MAX));
-  cmd->add_option("--rest-distance", o.rest_distance,
-                  "Rest distance of the potential in contact distances 2r (>= 1; larger = sparser)")
-      ->capture_default_str();
-  cmd->add_option("--epsilon", o.epsilon, "Depth of the potential well")->capture_default_str();
-  cmd->add_option("--cutoff", o.cutoff, "Cutoff in sigma (e.g. 2.5) for the attractive form; 0 = purely repulsive")
-      ->capture_default_str();
-  cmd->add_option("--exponents", a->exponents, "Potential exponents A,B (repulsive, attractive)")
-      ->capture_default_str();
-  cmd->add_option("--restitution", o.restitution, "Particle-particle restitution, 0..1")->capture_default_str();
-  cmd->add_option("--wall-restitution", o.wall_restitution, "Particle-surface restitution, 0..1")
-      ->capture_default_str();
-  cmd->add_option("--damping", o.damping, "Velocity damping rate during the fill")->capture_default_str();
-  cmd->add_option("--time-step", o.time_step, "Time step in units of the potential's time scale tau")
-      ->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
-      ->check(whole_number(0, UINT64_MAX))
-      ->capture_default_str();
-  cmd->add_option("--sites", o.sites,
-                  "Birth sites: -1 = automatic (waves from about 2,000 particles on, else 2 sites); 0 = births in "
-                  "waves over sites spread through the inside (one per --site-spacing); N = the deepest point, "
-                  "then far deep points (the report's schedule)")
-      ->capture_default_str();
-  cmd->add_option("--site-spacing", o.site_spacing, "Waves (--sites 0): sites at least this many rest distances apart")
-      ->capture_default_str();
-  cmd->add_option("--site-min-depth", o.site_min_depth, "Waves (--sites 0): sites at least this many radii inside")
-      ->capture_default_str();
-  cmd->add_option("--site-depth", o.site_depth_share,
-                  "Sites after the first lie at least this share of the deepest point's depth inside")
-      ->capture_default_str();
-  cmd->add_option("--birth-every", o.birth_every,
-                  "Steps between birth attempts at each site (0 = automatic: 48 for waves, 3 with --sites N)")
-      ->capture_default_str();
-  cmd->add_option("--birth-clearance", o.birth_clearance,
-                  "A site has room when no centre is within this many rest distances (0 = automatic: 0.55 for waves, 0.5 with --sites N)")
-      ->capture_default_str();
-  cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed (default 0.3,0.6)");
-  cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
-      ->capture_default_str();
-  cmd->add_option("--birth", a->birth, "First birth site X,Y,Z (must be inside; default the deepest point)");
-  cmd->add_option("--stop", a->stop, "What ends pass 1: blocked (sites full), ke (kinetic energy), collisions")
-      ->capture_default_str();
-  cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
-      ->capture_default_str();
-  cmd->add_option("--stop-share", o.birth_stop_share,
-                  "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
-                  "this share of the particles (-1 = automatic: 0.03 under a --max-overlap below 0.01, else 0.003)")
-      ->capture_default_str();
-  cmd->add_option("--max-steps", o.max_steps,
-                  "Step budget of pass 1 (0 = automatic: 100 a particle + 20,000); when it runs out, pass 1 ends "
-                  "with what is in (for trials of large fills)")
-      ->capture_default_str();
-  cmd->add_option("--settle-steps", o.settle_budget, "Most steps of the settle pass (it ends sooner at rest)")
-      ->capture_default_str()
-      ->check(whole_number(1, UINT64_MAX));
-  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
-      ->capture_default_str();
-  cmd->add_option("--void-clearance", o.void_clearance,
-                  "A hole takes a sphere when the nearest centre is this many rest distances away")
-      ->capture_default_str();
-  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap of any pair after the finish, fraction of r (0: none)")
-      ->capture_default_str();
-  cmd->add_option("--colour", a->colour,
-                  "Particle colours: surface (the mesh's colours/texture), depth, none or #RRGGBB "
-                  "(default: surface when the mesh has colours, else none)");
-  cmd->add_option("--skin", o.skin, "Neighbour-list skin in sigma; 0 = automatic (0.5 on CPUs, 0.3 on GPUs)")->capture_default_str();
-  cmd->add_option("--sync-every", o.sync_every, "Steps between reads of the step history and positions")
-      ->capture_default_str();
-  cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
+  // Every FillOptions setting from the table, by its one name; the
+  // tuning ones only in `pfill fill --help-all` (still accepted always).
+  for (const FillSetting& setting : fill_settings()) {
+    const std::string flags = (setting.short_flag.empty() ? "" : setting.short_flag + ",") + setting.flag();
+    const std::string shown = setting.get(FillOptions{});
+    CLI::Option* opt = cmd->add_option(flags, a->settings[setting.name],
+                                       setting.help + (shown.empty() ? "" : " [" + shown + "]"));
+    opt->type_name(setting.value_form);
+    opt->group(setting.tier == SettingTier::User ? "Options" : show_all ? "Tuning" : "");
+  }
   cmd->add_option("--report", a->report,
                   "Write the metrics and the run's figures as JSON to this file (- : standard output, instead of "
                   "the summary)");
@@ -307,28 +222,41 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--frames", a->frames, "Write the fill as numbered PLY frames into this folder");
   cmd->add_option("--every", a->frame_every, "Steps between frames")
       ->check(whole_number(1, UINT64_MAX))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_flag("--spheres", a->spheres, "GLB: an instanced low-poly sphere per particle");
   cmd->add_flag("--velocities", a->velocities,
                 "Write each particle's last velocity (PLY/CSV vx vy vz, VTP velocity, GLB _VELOCITY, LAMMPS "
-                "Velocities, xyzr columns 6-8), also in --frames");
+                "Velocities, xyzr columns 6-8), also in --frames")
+      ->group(details);
   cmd->add_option("--attribute-names", a->attribute_names,
                   "PLY and CSV attribute names: pfill (radius, red green blue, vx vy vz, id) or houdini "
                   "(pscale, Cd.r Cd.g Cd.b as floats 0..1, v.x v.y v.z, id)")
       ->check(CLI::IsMember({"pfill", "houdini"}))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_option("--density", a->density, "LAMMPS .data: every particle's density (mass per volume, in the "
                                            "units of your LAMMPS run)")
       ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
-  cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)");
+  cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)")
+      ->group(details);
   cmd->callback([a, cmd]() {
     if (!a->mesh.empty() && cmd->count("--builtin") > 0)
       throw Error("give a mesh file or --builtin NAME, not both");
     if (cmd->count("--radius") > 0 && cmd->count("--count") > 0)
       throw Error("give -r (the radius) or -n (a count, which picks the radius), not both");
-    run_fill(*a);
+    try {
+      for (const FillSetting& setting : fill_settings())
+        if (cmd->count(setting.flag()) > 0) setting.set(a->options, a->settings[setting.name]);
+      run_fill(*a);
+    } catch (const Cancelled&) {
+      throw;
+    } catch (const Error& e) {
+      throw Error(with_flags(e.what()));  // the library names settings; here they are flags
+    }
   });
   return cmd;
 }

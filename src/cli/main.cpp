@@ -3,6 +3,7 @@
 // Exit codes (cli/commands.hpp, README): 0 success, 1 error (one line on
 // stderr), 2 bad usage, 3 `check` missed a threshold.
 #include <iostream>
+#include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -17,13 +18,20 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "pfill 0.1.0");
   app.require_subcommand(1);
   app.footer("Exit codes: 0 success, 1 error (one line on stderr), 2 bad usage, 3 `check` missed a threshold.");
-  pfill::cli::add_fill_command(app);
+  // `--help-all`: the help with every option, the tuning ones included.
+  std::vector<const char*> args(argv, argv + argc);
+  bool show_all = false;
+  for (const char*& a : args)
+    if (std::string(a) == "--help-all") {
+      show_all = true;
+      a = "--help";
+    }
+  pfill::cli::add_fill_command(app, show_all);
   pfill::cli::add_check_command(app);
   pfill::cli::add_info_command(app);
   pfill::cli::add_render_command(app);
   pfill::cli::add_devices_command(app);
 
-  std::vector<const char*> args(argv, argv + argc);
   if (argc == 1) args.push_back("fill");  // the main job on a built-in shape
   // CLI11 answers a mistyped command with "A subcommand is required": name it.
   if (argc > 1 && argv[1][0] != '-') {

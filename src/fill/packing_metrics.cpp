@@ -11,12 +11,12 @@
 #include <tbb/parallel_for.h>
 
 #include "fill/centre_grid.hpp"
+#include "fill/hole_climb.hpp"
 #include "pfill/error.hpp"
 
 namespace pfill {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 // Spheres that touch to within rounding do not overlap.
 constexpr double kTouching = 1e-9;
 
@@ -213,23 +213,7 @@ Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double
   std::vector<Vec3> climbed_to(seeds.size());
   tbb::parallel_for(size_t(0), seeds.size(), [&](size_t k) {
     Vec3 p = seeds[k];
-    double g = gap(p);
-    static const Vec3 dirs[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-                                {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
-                                {-1, -1, 1}, {-1, -1, -1}};
-    for (double step = 0.5 * h; step > 0.002 * radius;) {
-      bool moved = false;
-      for (const Vec3& d : dirs) {
-        const Vec3 q = p + d * (step / length(d));
-        const double gq = gap(q);
-        if (gq > g && deep(q)) {
-          p = q;
-          g = gq;
-          moved = true;
-        }
-      }
-      if (!moved) step *= 0.5;
-    }
+    const double g = climb_to_hole_centre(p, 0.5 * h, 0.002 * radius, gap, deep);
     climbed[k] = g;
     climbed_to[k] = p;
   });

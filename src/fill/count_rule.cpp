@@ -1,0 +1,32 @@
+// The count rule (count_rule.hpp): the packing a fill reaches, fitted to
+// fills of spot and a sphere at the 0.1% and 5% bounds (measurements in
+// docs/fill-figures.md).
+#include "pfill/count_rule.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+double expected_packing(double max_overlap, double wall_share) {
+  // (a few spheres in a thin part: the fit says nothing there; 0.3 keeps the radius sensible)
+  return std::max(0.3, 0.643 + 0.79 * std::min(max_overlap, 0.05) - 0.19 * wall_share);
+}
+
+double expected_fill_count(double volume, double area, double half_rest, double max_overlap) {
+  return expected_packing(max_overlap, area * half_rest / volume) * volume / sphere_volume(half_rest);
+}
+
+double fill_radius_for_count(double volume, double area, size_t count, double max_overlap) {
+  if (!(volume > 0) || count == 0) return 0;
+  // The packing depends on the radius a little (the wall's share): a few rounds settle it.
+  const double n = static_cast<double>(count);
+  double r = std::cbrt(3.0 * 0.6 * volume / (4.0 * kPi * n));
+  for (int k = 0; k < 6; ++k)
+    r = std::cbrt(3.0 * expected_packing(max_overlap, std::max(area, 0.0) * r / volume) * volume / (4.0 * kPi * n));
+  return r;
+}
+
+}  // namespace pfill

@@ -1,0 +1,76 @@
+// The fill's settings checked before any work (fill_options_check.hpp).
+#include "fill/fill_options_check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "pfill/error.hpp"
+
+namespace pfill {
+namespace {
+
+std::string fmt(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+}  // namespace
+
+void check_fill_options(const FillOptions& o) {
+  // Each test is written so that NaN fails it.
+  auto need = [](bool ok, const std::string& what) {
+    if (!ok) throw Error(what);
+  };
+  auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
+  need(o.radius >= 0 && std::isfinite(o.radius), "radius must be a positive number");
+  need(!(o.radius > 0 && o.count > 0), "give a count or a radius, not both (a count picks the radius)");
+  need(o.radius > 0 || o.count > 0, "give a count or a particle radius");
+  need(o.count <= kMaxParticles, "a count of " + std::to_string(o.count) + " is more than pfill handles (" +
+                                      fmt(kMaxParticles) + "); ask for fewer particles");
+  need(in(o.max_overlap, 0, 0.999999), "max_overlap must be in [0, 1) (a fraction of r)");
+  need(in(o.rest_distance, 1, 10), "rest_distance must be 1..10 (a multiple of the contact distance 2r)");
+  need(std::isfinite(o.epsilon) && o.epsilon > 0 && o.epsilon <= 1e6, "epsilon must be in (0, 1e6]");
+  need(o.exponents[1] > 0 && o.exponents[0] > o.exponents[1] && o.exponents[0] <= 64,
+       "exponents must be A,B with 64 >= A > B > 0 (default 12,6)");
+  need(o.cutoff == 0 || in(o.cutoff, 1.000001, 5), "cutoff must be 0 (purely repulsive) or in (1, 5] sigma");
+  need(in(o.restitution, 0, 1), "restitution must be in [0, 1]");
+  need(in(o.wall_restitution, 0, 1), "wall_restitution must be in [0, 1]");
+  need(o.sites >= -1 && o.sites <= 64, "sites must be -1..64 (-1: automatic; 0: births in waves over sites spread inside)");
+  need(in(o.site_depth, 0, 1), "site_depth must be in [0, 1] (a share of the deepest point's depth)");
+  need(in(o.site_spacing, 0.5, 1e3), "site_spacing must be in [0.5, 1000] rest distances");
+  need(in(o.site_min_depth, 1, 1e3), "site_min_depth must be in [1, 1000] radii");
+  need(o.birth_every >= 0 && o.birth_every <= 1000, "birth_every must be 1..1000 (or 0: automatic)");
+  need(!o.birth || (std::isfinite(o.birth->x) && std::isfinite(o.birth->y) && std::isfinite(o.birth->z)),
+       "birth must be three finite numbers X,Y,Z");
+  need(o.birth_speed[0] >= 0 && o.birth_speed[1] >= o.birth_speed[0] && o.birth_speed[1] <= 1,
+       "birth_speed must be MIN,MAX with 0 <= MIN <= MAX <= 1 (fractions of the top speed)");
+  // Bounds that keep every pass finite: a site that always has room, a
+  // patience of nothing, a vanishing step or speed would make a fill
+  // endless or empty.
+  need(o.birth_clearance == 0 || in(o.birth_clearance, 0.25, 4),
+       "birth_clearance must be 0 (automatic) or in [0.25, 4] rest distances; below 0.25 a site never "
+       "fills up and births go on without end");
+  need(o.patience >= std::max(100, 10 * o.birth_every) && o.patience <= 10'000'000,
+       "patience must be at least 100 steps and 10 birth intervals (birth_every), at most 10,000,000 "
+       "(default 1500)");
+  need(o.stop_share == -1 || (o.stop_share >= 0 && o.stop_share < 1),
+       "stop_share must be in [0, 1), or -1 for automatic");
+  need(std::isfinite(o.damping) && o.damping >= 0 && o.damping <= 1e6, "damping must be in [0, 1e6]");
+  need(in(o.time_step, 1e-4, 0.05), "time_step must be in [0.0001, 0.05] tau (smaller steps never finish)");
+  need(in(o.max_step, 1e-3, 1), "max_step must be in [0.001, 1] sigma");
+  need(o.top_up_patience >= 1 && o.rest_steps >= 1 && o.rest_speed > 0,
+       "the settling settings (top_up_patience, rest_steps, rest_speed) must be positive");
+  need(o.settle_steps >= 1, "settle_steps must be at least 1");
+  need(in(o.containment_tolerance, 0, 1), "containment_tolerance must be in [0, 1] (a fraction of r)");
+  need(o.hole_rounds >= 0 && o.hole_rounds <= 100, "hole_rounds must be 0..100");
+  need(o.hole_clearance > 0 && o.hole_clearance <= 4, "hole_clearance must be in (0, 4] rest distances");
+  need(o.field_spacing > 0 && o.field_spacing <= 2, "field_spacing must be in (0, 2] radii");
+  need(in(o.skin, 0, 5), "skin must be in [0, 5] sigma (0: automatic)");
+  need(o.sync_every >= 1 && o.sync_every <= 1000, "sync_every must be 1..1000");
+  need(o.sort_every >= 0, "sort_every must be >= 0 (0: never)");
+}
+
+}  // namespace pfill
