@@ -30,6 +30,8 @@
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/peak_memory.hpp"
 #include "pfill/sdf.hpp"
+#include "fill/short_number.hpp"
+#include "fill/stopwatch.hpp"
 
 namespace pfill {
 namespace {
@@ -39,16 +41,6 @@ namespace {
 // attraction, -n 4000: 0.5818 at the 0.1% bound and 0.6086 at 5% (1.9 r:
 // 0.466 / 0.526); 1.5 r deleted a third of what it inserted.
 constexpr double kCompressClearance = 1.7;
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 class FillRun {
  public:
@@ -109,7 +101,7 @@ class FillRun {
 
   // ---- finish: overlaps resolved by moving spheres; holes filled (finish.cpp) ----
   void finish(uint64_t next_id) {
-    const auto t = Clock::now();
+    const Stopwatch t;
     reporter_.enter(FillPhase::Finish);
     reporter_.time_left().finish_started(reporter_.elapsed());
     fill_steps_ = engine_->steps_done();
@@ -135,7 +127,7 @@ class FillRun {
     result_.finish_rounds = stats.rounds;
     result_.holes_filled = stats.inserted;
     next_id_ = stats.next_id;
-    result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, seconds_since(t)});
+    result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, t.seconds()});
   }
 
   FinishSettings finish_settings() const {
@@ -203,9 +195,9 @@ std::string no_room_message(const Mesh& mesh, double volume, double area, const 
   const ScalarGrid field = build_signed_distance_field(boundary, so);
   double deepest = 0;
   for (float v : field.values) deepest = std::max(deepest, -static_cast<double>(v));
-  return "no particle of radius " + fmt(radius) + " fits: the deepest point is about " + fmt(deepest) +
+  return "no particle of radius " + short_number(radius) + " fits: the deepest point is about " + short_number(deepest) +
          " from the surface; " +
-         (o.radius > 0 ? "choose a radius below " + fmt(deepest) : std::string("ask for more particles (-n)"));
+         (o.radius > 0 ? "choose a radius below " + short_number(deepest) : std::string("ask for more particles (-n)"));
 }
 
 // A mesh whose box the distance field cannot cover at a spacing near the
@@ -236,9 +228,9 @@ void refuse_stray_vertices(const Mesh& mesh, double volume, double area, const F
   for (size_t i = 0; i < mesh.positions.size(); ++i)
     if (length(mesh.positions[i] - median) > length(mesh.positions[stray] - median)) stray = i;
   const Vec3& p = mesh.positions[stray];
-  throw Error((mesh.source.empty() ? std::string("the mesh") : mesh.source) + ": its box (" + fmt(size.x) + " x " +
-              fmt(size.y) + " x " + fmt(size.z) + ") is too large for particles of radius " + fmt(radius) +
-              " (a volume of " + fmt(volume) + "): is the vertex at (" + fmt(p.x) + ", " + fmt(p.y) + ", " + fmt(p.z) +
+  throw Error((mesh.source.empty() ? std::string("the mesh") : mesh.source) + ": its box (" + short_number(size.x) + " x " +
+              short_number(size.y) + " x " + short_number(size.z) + ") is too large for particles of radius " + short_number(radius) +
+              " (a volume of " + short_number(volume) + "): is the vertex at (" + short_number(p.x) + ", " + short_number(p.y) + ", " + short_number(p.z) +
               ") a stray? remove it, or choose a larger radius");
 }
 
@@ -281,7 +273,7 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
     result.warnings.push_back(
         std::string(d.components > 1 ? "parts of the mesh intersect or lie inside one another"
                                      : "the surface intersects itself") +
-        ": filled as the union of what it encloses (inside = a non-zero winding number); the volume " + fmt(d.volume()) +
+        ": filled as the union of what it encloses (inside = a non-zero winding number); the volume " + short_number(d.volume()) +
         " is the union's, estimated by rays" +
         (d.components > 1 ? "" : ", and its inner surfaces act as walls; repair the mesh for a clean fill"));
 

@@ -7,18 +7,9 @@
 #include <string>
 
 #include "pfill/error.hpp"
+#include "fill/short_number.hpp"
 
 namespace pfill {
-namespace {
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
-}  // namespace
-
 void check_fill_options(const FillOptions& o) {
   // Each test is written so that NaN fails it.
   auto need = [](bool ok, const std::string& what) {
@@ -29,7 +20,7 @@ void check_fill_options(const FillOptions& o) {
   need(!(o.radius > 0 && o.count > 0), "give a count or a radius, not both (a count picks the radius)");
   need(o.radius > 0 || o.count > 0, "give a count or a particle radius");
   need(o.count <= kMaxParticles, "a count of " + std::to_string(o.count) + " is more than pfill handles (" +
-                                      fmt(kMaxParticles) + "); ask for fewer particles");
+                                      short_number(kMaxParticles) + "); ask for fewer particles");
   need(in(o.max_overlap, 0, 0.999999), "max_overlap must be in [0, 1) (a fraction of r)");
   need(in(o.rest_distance, 1, 10), "rest_distance must be 1..10 (a multiple of the contact distance 2r)");
   need(std::isfinite(o.epsilon) && o.epsilon > 0 && o.epsilon <= 1e6, "epsilon must be in (0, 1e6]");

@@ -8,19 +8,11 @@
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
+#include "fill/short_number.hpp"
+#include "fill/stopwatch.hpp"
 
 namespace pfill {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
 
 std::vector<size_t> take_flagged(ParticleEngine& e) {
   std::vector<size_t> out = e.flagged_particles();
@@ -44,7 +36,7 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
 
 // ---- pass 1: births until the object is overfull ----
 void FillPasses::pass1() {
-  const auto t = Clock::now();
+  const Stopwatch t;
   const uint64_t first = engine_.steps_done();
   const uint64_t budget = o_.max_steps ? o_.max_steps : 100 * static_cast<uint64_t>(plan_.expected) + 20000;
   KineticEnergyTest ke(o_.ke);
@@ -90,7 +82,7 @@ void FillPasses::pass1() {
         stop("blocked", (blocked.steps_without_birth() >= bs.patience
                              ? "no birth site had room for " + std::to_string(bs.patience) + " steps"
                              : "the " + std::to_string(sites_.size()) + " sites had room for at most " +
-                                   fmt(bs.share * 100) + "% of the particles in the last " +
+                                   short_number(bs.share * 100) + "% of the particles in the last " +
                                    std::to_string(bs.patience) + " steps") +
                             (o_.stop != StopCriterion::Blocked
                                  ? std::string(" (the ") + to_string(o_.stop) + " test did not fire first)"
@@ -104,13 +96,13 @@ void FillPasses::pass1() {
       stop("budget", "the step budget of pass 1 (" + std::to_string(budget) + " steps) ran out");
     }
   }
-  result_.passes.push_back({to_string(FillPhase::Pass1), engine_.steps_done() - first, seconds_since(t)});
+  result_.passes.push_back({to_string(FillPhase::Pass1), engine_.steps_done() - first, t.seconds()});
   reporter_.time_left().pass1_ended();
 }
 
 // ---- pass 2: MaxParts = count - 1; top up to it ----
 void FillPasses::pass2() {
-  const auto t = Clock::now();
+  const Stopwatch t;
   const uint64_t first = engine_.steps_done();
   reporter_.enter(FillPhase::Pass2);
   result_.max_parts = engine_.size() > 0 ? engine_.size() - 1 : 0;
@@ -121,12 +113,12 @@ void FillPasses::pass2() {
     const bool any = std::any_of(born.begin(), born.end(), [](int b) { return b > 0; });
     idle = any ? 0 : idle + static_cast<int>(born.size());
   }
-  result_.passes.push_back({to_string(FillPhase::Pass2), engine_.steps_done() - first, seconds_since(t)});
+  result_.passes.push_back({to_string(FillPhase::Pass2), engine_.steps_done() - first, t.seconds()});
 }
 
 // ---- settle: run until at rest ----
 void FillPasses::settle() {
-  const auto t = Clock::now();
+  const Stopwatch t;
   const uint64_t first = engine_.steps_done();
   reporter_.enter(FillPhase::Settle);
   reporter_.time_left().settle_started(first);
@@ -136,12 +128,12 @@ void FillPasses::settle() {
     run_batch(false);
     for (const StepRecord& r : history_) calm = r.max_speed < o_.rest_speed * top_speed_ ? calm + 1 : 0;
     if (calm >= o_.rest_steps) {
-      result_.settle_reason = "at rest: every speed below " + fmt(o_.rest_speed) + " of the top speed for " +
+      result_.settle_reason = "at rest: every speed below " + short_number(o_.rest_speed) + " of the top speed for " +
                               std::to_string(o_.rest_steps) + " steps";
       break;
     }
   }
-  result_.passes.push_back({to_string(FillPhase::Settle), engine_.steps_done() - first, seconds_since(t)});
+  result_.passes.push_back({to_string(FillPhase::Settle), engine_.steps_done() - first, t.seconds()});
 }
 
 /// Runs a batch of steps (with birth attempts when `births`), then reads

@@ -9,6 +9,7 @@
 #include "pfill/boundary.hpp"
 #include "pfill/device/device.hpp"
 #include "pfill/error.hpp"
+#include "fill/short_number.hpp"
 
 namespace pfill {
 namespace {
@@ -28,12 +29,6 @@ constexpr double kSiteClearance = 0.5, kWaveClearance = 0.55;
 constexpr double kDeviceBytesPerParticle = 2 * 96;
 constexpr double kDeviceBytesFixed = 1024 * 96;
 
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
-}
-
 }  // namespace
 
 double particle_radius(const FillOptions& o, double volume, double area) {
@@ -49,8 +44,8 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
   if (!(plan.radius > 0)) throw Error("give a particle radius (-r) or a count (-n)");
   plan.expected = expected_fill_count(plan.volume, plan.area, plan.radius * o.rest_distance, o.max_overlap);
   if (plan.expected > kMaxParticles)
-    throw Error("a radius of " + fmt(plan.radius) + " would give about " + fmt(plan.expected) +
-                " particles, more than pfill handles (" + fmt(kMaxParticles) +
+    throw Error("a radius of " + short_number(plan.radius) + " would give about " + short_number(plan.expected) +
+                " particles, more than pfill handles (" + short_number(kMaxParticles) +
                 "); choose a larger radius or a smaller count");
 
   // The field: at a share of r, coarsened to stay within max_field_samples.
@@ -63,8 +58,8 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
   };
   if (samples(so.spacing) > static_cast<double>(o.max_field_samples)) {
     so.spacing *= std::cbrt(samples(so.spacing) / static_cast<double>(o.max_field_samples)) * 1.01;
-    plan.warnings.push_back("the distance field was coarsened to a spacing of " + fmt(so.spacing / plan.radius) +
-                            " r to stay within " + fmt(static_cast<double>(o.max_field_samples)) +
+    plan.warnings.push_back("the distance field was coarsened to a spacing of " + short_number(so.spacing / plan.radius) +
+                            " r to stay within " + short_number(static_cast<double>(o.max_field_samples)) +
                             " samples; the final exact check corrects what it misses");
   }
   so.margin = 2 * plan.radius + 3 * so.spacing;
@@ -85,18 +80,18 @@ std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& 
   if (sites.empty()) {
     double deepest = 0;
     for (float v : field.values) deepest = std::max(deepest, -static_cast<double>(v));
-    throw Error("no particle of radius " + fmt(plan.radius) + " fits: the deepest point is " + fmt(deepest) +
+    throw Error("no particle of radius " + short_number(plan.radius) + " fits: the deepest point is " + short_number(deepest) +
                 " from the surface; choose a smaller radius or a larger count");
   }
   if (o.birth) {
     const Vec3 p = *o.birth;
     if (!boundary.inside(p))
-      throw Error("the birth point " + fmt(p.x) + "," + fmt(p.y) + "," + fmt(p.z) +
+      throw Error("the birth point " + short_number(p.x) + "," + short_number(p.y) + "," + short_number(p.z) +
                   " (--birth) is outside the mesh; give a point inside it or leave it out");
     const double depth = -boundary.signed_distance(p);
     if (depth < plan.radius)
-      throw Error("the birth point (--birth) is only " + fmt(depth) + " from the surface, less than the radius " +
-                  fmt(plan.radius) + "; move it deeper inside");
+      throw Error("the birth point (--birth) is only " + short_number(depth) + " from the surface, less than the radius " +
+                  short_number(plan.radius) + "; move it deeper inside");
     sites[0] = {p, depth};
   }
   return sites;
@@ -124,8 +119,8 @@ void check_device_memory(const Device& device, const FillPlan& plan, size_t fiel
   const double needed = plan.expected * kDeviceBytesPerParticle + kDeviceBytesFixed + static_cast<double>(field_bytes);
   const double has = static_cast<double>(device.info().global_memory);
   if (has > 0 && needed > has)
-    throw Error("about " + fmt(plan.expected) + " particles need ~" + fmt(needed / 1048576.0) + " MiB but " +
-                device.info().name + " has " + fmt(has / 1048576.0) +
+    throw Error("about " + short_number(plan.expected) + " particles need ~" + short_number(needed / 1048576.0) + " MiB but " +
+                device.info().name + " has " + short_number(has / 1048576.0) +
                 " MiB; choose a larger radius or another device (--device)");
 }
 

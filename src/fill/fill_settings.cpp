@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "pfill/error.hpp"
+#include "fill/short_number.hpp"
 
 namespace pfill {
 namespace {
@@ -19,12 +20,6 @@ namespace {
 /// Error messages quote at most this much of a value.
 std::string quoted(const std::string& text) {
   return "'" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "'";
-}
-
-std::string fmt(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
 }
 
 /// A finite number, the whole text.
@@ -79,7 +74,7 @@ FillSetting real(const char* name, T FillOptions::*field, SettingTier tier, cons
             if (positive && !(v > 0)) throw Error(std::string(name) + " " + quoted(t) + " must be a positive number");
             o.*field = static_cast<T>(v);
           },
-          [=](const FillOptions& o) { return fmt(static_cast<double>(o.*field)); }};
+          [=](const FillOptions& o) { return short_number(static_cast<double>(o.*field)); }};
 }
 
 template <class T>
@@ -119,7 +114,7 @@ FillSetting point_setting(const char* name, std::optional<Vec3> FillOptions::*fi
           },
           [=](const FillOptions& o) {
             const std::optional<Vec3>& p = o.*field;
-            return p ? fmt(p->x) + "," + fmt(p->y) + "," + fmt(p->z) : std::string();
+            return p ? short_number(p->x) + "," + short_number(p->y) + "," + short_number(p->z) : std::string();
           }};
 }
 
@@ -130,7 +125,7 @@ FillSetting pair(const char* name, std::array<double, 2> FillOptions::*field, Se
             const std::vector<double> v = reals_of(name, t, 2, form);
             o.*field = {v[0], v[1]};
           },
-          [=](const FillOptions& o) { return fmt((o.*field)[0]) + "," + fmt((o.*field)[1]); }};
+          [=](const FillOptions& o) { return short_number((o.*field)[0]) + "," + short_number((o.*field)[1]); }};
 }
 
 /// A setting whose 0 means "not given" (count, radius): shown as unset.
