@@ -43,6 +43,7 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
                       double max_overlap, const py::object& colour, double skin, int sync_every,
                       const std::string& device, const py::object& progress, const py::object& cancelled) {
   FillOptions o;
+  if (count && radius) throw Error("give count or radius, not both (a count picks the radius)");
   if (count && *count < 0) throw Error("count must be >= 0 (about how many particles)");
   if (seed < 0) throw Error("seed must be >= 0");
   o.count = count ? static_cast<size_t>(*count) : 0;
@@ -85,6 +86,12 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
   o.sync_every = sync_every;
   o.device = device;
 
+  try {  // before the mesh is read, as the command line does; messages name the keywords
+    check_fill_options(o);
+  } catch (const Error& e) {
+    throw Error(name_fill_options(e.what(), false));
+  }
+
   const Mesh mesh = mesh_from(mesh_arg);
   FillHooks hooks(progress, cancelled);
   hooks.attach(o);
@@ -96,6 +103,8 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
       r = fill(mesh, o);
     } catch (const Cancelled&) {
       was_cancelled = true;  // raised below, with the GIL held again
+    } catch (const Error& e) {
+      throw Error(name_fill_options(e.what(), false));
     }
   }
   if (was_cancelled) hooks.raise_cancelled();
@@ -146,7 +155,12 @@ py::object check(const py::object& positions, const py::object& radii, const py:
     ps.radii.assign(r.data(), r.data() + r.shape(0));
   }
   validate(ps, "particles");
-  const Mesh mesh = mesh_from(mesh_arg);
+  if (!(tolerance >= 0 && tolerance <= 1)) throw Error("tolerance must be a number in 0..1 (a fraction of r)");
+  Mesh mesh = mesh_from(mesh_arg);
+  // About the mesh's centre, as fill() works (the ray tracer is single precision).
+  const Vec3 centre = mesh.bounds().centre();
+  for (Vec3& p : mesh.positions) p -= centre;
+  for (Vec3& p : ps.positions) p -= centre;
   PackingMetrics m;
   {
     py::gil_scoped_release release;

@@ -177,7 +177,7 @@ TEST_CASE("bad fills give one clear line") {
   CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("outside the mesh"), Error);
   o = small_fill(100);
   o.rest_distance = 0.5;
-  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("--rest-distance"), Error);
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("rest_distance"), Error);
   o = FillOptions{};
   CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("radius (-r) or a count (-n)"), Error);
   Mesh empty;

@@ -175,6 +175,16 @@ struct FillResult {
 /// pfill::Cancelled when FillOptions::cancelled returns true.
 FillResult fill(const Mesh& mesh, const FillOptions& options);
 
+/// Throws pfill::Error with one line naming the first setting of `options`
+/// out of its range (by its C++ name, e.g. "rest_distance must be 1..10");
+/// fill() does the same, so callers need this only to fail before loading a
+/// mesh. (src/fill/fill_options_check.cpp)
+void check_fill_options(const FillOptions& options);
+
+/// `message` with the FillOptions names in it written as the command line's
+/// flags (`cli`: "--rest-distance") or Python's keywords ("max_step").
+std::string name_fill_options(const std::string& message, bool cli);
+
 /// Radius that gives about `count` particles in `volume` (enclosed by a
 /// surface of `area`: spheres pack looser along it) for a physics fill
 /// whose overlaps are bounded by `max_overlap` (a fraction of r; looser

@@ -1,6 +1,11 @@
 // `pfill fill [MESH] -o OUT [options]`: the main job. Without a mesh it
 // fills a built-in shape and writes into the current folder.
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 
 #include <chrono>
 #include <cstdio>
@@ -113,44 +118,94 @@ void parse_exponents(const std::string& text, FillOptions& o) {
     throw Error("--exponents '" + text + "': give A,B with A > B > 0 (default 12,6)");
 }
 
-// Fails before a long fill, not after it, when an output cannot be written.
-void check_output_folder(const std::string& path, const char* what) {
+// A setting out of range is bad usage (exit 2): one line naming the flag.
+[[noreturn]] void usage_error(const std::string& message) {
+  std::fprintf(stderr, "pfill: error: %s\n", excerpt(message, 600).c_str());
+  throw ExitStatus{kExitUsage};
+}
+
+// Fails before a long fill, not after it, when an output cannot be written:
+// a missing or unwritable folder (a read-only file system, /sys), a path
+// that is a folder. Probes the folder with a file of its own, removed at once.
+void check_output_path(const std::string& path, const char* what) {
   if (path.empty() || path == "-") return;  // "-": standard output
   const fs::path folder = fs::absolute(fs::path(path)).parent_path();
   std::error_code ec;
+  const std::string start = "cannot write " + std::string(what) + " '" + path + "': ";
   if (!fs::is_directory(folder, ec))
-    throw Error("cannot write " + std::string(what) + " '" + path + "': the folder " + folder.string() +
-                " does not exist; create it or choose another path");
+    throw Error(start + "the folder " + folder.string() + " does not exist; create it or choose another path");
+  if (fs::is_directory(fs::path(path), ec)) throw Error(start + "it is a folder; give a file name");
+  const fs::path probe = folder / (".pfill-probe-" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int error = errno;
+    if (error != EEXIST)
+      throw Error(start + "the folder " + folder.string() + " is not writable (" + std::strerror(error) + ")");
+    return;
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
-void run_fill(FillArgs& a) {
+// Options that do nothing for the chosen output say so (stderr, not an error).
+void warn_unused_options(const FillArgs& a, const CLI::App& cmd) {
+  const ParticleFormat f = particle_format_from_path(a.output);
+  auto warn = [](const std::string& what) { std::fprintf(stderr, "pfill: warning: %s\n", what.c_str()); };
+  if (cmd.count("--density") > 0 && f != ParticleFormat::LammpsData)
+    warn("--density applies to LAMMPS .data output only; ignored for " + a.output);
+  if (cmd.count("--every") > 0 && a.frames.empty()) warn("--every applies to --frames only; ignored");
+  if (a.spheres && f != ParticleFormat::Glb) warn("--spheres applies to .glb output only; ignored for " + a.output);
+  if (cmd.count("--attribute-names") > 0 && f != ParticleFormat::Ply && f != ParticleFormat::Csv && a.frames.empty())
+    warn("--attribute-names applies to .ply and .csv output only; ignored for " + a.output);
+}
+
+// The settings as the library takes them, checked before the mesh is read.
+void parse_settings(FillArgs& a) {
+  try {
+    if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
+    parse_exponents(a.exponents, a.options);
+    a.options.stop = parse_stop_criterion(a.stop);
+    if (!a.birth_speed.empty()) {
+      char extra = 0;
+      if (std::sscanf(a.birth_speed.c_str(), "%lf,%lf%c", &a.options.birth_speed_min, &a.options.birth_speed_max,
+                      &extra) != 2)
+        throw Error("--birth-speed '" + a.birth_speed + "': give MIN,MAX as fractions of the top speed (e.g. 0.2,0.5)");
+    }
+    if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
+    if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+    check_fill_options(a.options);
+  } catch (const Error& e) {
+    usage_error(name_fill_options(e.what(), true));
+  }
+}
+
+void run_fill(FillArgs& a, const CLI::App& cmd) {
   const bool from_file = !a.mesh.empty();
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
+  parse_settings(a);
   refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}},
                         {"--frames", a.frames});
-  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
-  check_output_folder(a.output, "the output");
   particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
+  if (!a.preview.empty()) {
+    std::string ext = fs::path(a.preview).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png") throw Error("--preview '" + a.preview + "': the preview is a PNG picture; give a .png path");
+  }
+  check_output_path(a.output, "the output");
+  check_output_path(a.preview, "the preview");
+  check_output_path(a.report, "the report");
+  warn_unused_options(a, cmd);
+  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
+  if (mesh.turned_faces > 0 && !a.quiet)
+    std::fprintf(stderr, "pfill: warning: the winding was inconsistent: %s faces were turned to agree with their "
+                         "neighbours\n", thousands(mesh.turned_faces).c_str());
   ParticleWriteOptions wo;
   wo.spheres = a.spheres;
   wo.velocities = a.velocities;
   wo.names = parse_attribute_names(a.attribute_names);
   wo.density = a.density;
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
-  check_output_folder(a.preview, "the preview");
-  check_output_folder(a.report, "the report");
-  if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
-  parse_exponents(a.exponents, a.options);
-  a.options.stop = parse_stop_criterion(a.stop);
-  if (!a.birth_speed.empty()) {
-    char extra = 0;
-    if (std::sscanf(a.birth_speed.c_str(), "%lf,%lf%c", &a.options.birth_speed_min, &a.options.birth_speed_max,
-                    &extra) != 2)
-      throw Error("--birth-speed '" + a.birth_speed + "': give MIN,MAX as fractions of the top speed (e.g. 0.2,0.5)");
-  }
-  if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
-  if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
@@ -171,8 +226,15 @@ void run_fill(FillArgs& a) {
     r = fill(mesh, a.options);
   } catch (const Cancelled&) {
     defer_interrupts_to(nullptr);
-    std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
+    if (frames && frames->frames_written() > 0)
+      std::fprintf(stderr, "\npfill: interrupted: the fill stopped; %llu frames are in %s, no output was written\n",
+                   static_cast<unsigned long long>(frames->frames_written()), a.frames.c_str());
+    else
+      std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
     throw ExitStatus{128 + static_cast<int>(interrupted)};  // as a shell reports a process ended by that signal
+  } catch (const Error& e) {
+    defer_interrupts_to(nullptr);
+    throw Error(name_fill_options(e.what(), true));  // the library names its settings as C++ does
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
@@ -281,6 +343,7 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--max-steps", o.max_steps,
                   "Step budget of pass 1 (0 = automatic: 100 a particle + 20,000); when it runs out, pass 1 ends "
                   "with what is in (for trials of large fills)")
+      ->check(whole_number(0, UINT64_MAX))
       ->capture_default_str();
   cmd->add_option("--settle-steps", o.settle_budget, "Most steps of the settle pass (it ends sooner at rest)")
       ->capture_default_str()
@@ -319,7 +382,7 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--density", a->density, "LAMMPS .data: every particle's density (mass per volume, in the "
                                            "units of your LAMMPS run)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str();
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
   cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)");
@@ -328,7 +391,7 @@ CLI::App* add_fill_command(CLI::App& app) {
       throw Error("give a mesh file or --builtin NAME, not both");
     if (cmd->count("--radius") > 0 && cmd->count("--count") > 0)
       throw Error("give -r (the radius) or -n (a count, which picks the radius), not both");
-    run_fill(*a);
+    run_fill(*a, *cmd);
   });
   return cmd;
 }

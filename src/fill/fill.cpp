@@ -29,6 +29,7 @@
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/peak_memory.hpp"
 #include "pfill/sdf.hpp"
+#include "fill/fill_options_check.hpp"
 #include "fill/finish.hpp"
 #include "fill/particle_set_of.hpp"
 #include "fill/time_left.hpp"
@@ -107,7 +108,7 @@ class FillRun {
  private:
   // ---- prepare: geometry, radius, field, sites, engine ----
   void prepare() {
-    check_options();
+    check_fill_options(o_);
     const MeshDiagnostics& d = diagnostics_;
     if (d.boundary_edges > 0)
       result_.warnings.push_back("the mesh is open (" + std::to_string(d.boundary_loops) +
@@ -122,6 +123,7 @@ class FillRun {
 
     radius_ = particle_radius(o_, volume_, d.surface_area);
     if (!(radius_ > 0)) throw Error("give a particle radius (-r) or a count (-n)");
+    check_fill_options(o_, mesh_, radius_);
     const double expected = expected_count(volume_, d.surface_area, radius_ * o_.rest_distance, o_.max_overlap);
     if (expected > kMaxParticles)
       throw Error("a radius of " + fmt(radius_) + " would give about " + fmt(expected) +
@@ -160,6 +162,12 @@ class FillRun {
     if (waves_) sites_ = spread_birth_sites(field_, o_.site_spacing * rest_distance(), o_.site_min_depth * radius_);
     if (sites_.empty())  // the report's sites; for waves, the one deepest point of a thin object
       sites_ = choose_birth_sites(field_, o_.sites < 0 ? 2 : std::max(1, o_.sites), radius_, o_.site_depth_share);
+    if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site (issue 33)
+      const PartSites parts = add_sites_per_part(field_, radius_, sites_);
+      if (parts.too_small > 0)
+        result_.warnings.push_back(std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
+                                   " closed parts are too small for a sphere of radius " + fmt(radius_) + " and stay empty");
+    }
     if (sites_.empty()) {
       double deepest = 0;
       for (float v : field_.values) deepest = std::max(deepest, -static_cast<double>(v));
@@ -203,55 +211,6 @@ class FillRun {
     if (o_.log) o_.log(engine_->describe());
     engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
     top_speed_ = engine_->constants().max_speed;
-  }
-
-  void check_options() const {
-    auto need = [](bool ok, const std::string& what) {
-      if (!ok) throw Error(what);
-    };
-    need(o_.radius >= 0 && std::isfinite(o_.radius), "the radius must be a positive number");
-    need(o_.radius > 0 || o_.count > 0, "give a particle radius (-r) or a count (-n)");
-    need(o_.count <= kMaxParticles, "a count of " + std::to_string(o_.count) + " is more than pfill handles (" +
-                                        fmt(kMaxParticles) + "); ask for fewer particles");
-    need(o_.rest_distance >= 1, "--rest-distance must be >= 1 (a multiple of the contact distance 2r)");
-    need(o_.sites >= -1 && o_.sites <= 64, "--sites must be -1..64 (-1: automatic; 0: births in waves over sites spread inside)");
-    need(o_.birth_every >= 0, "--birth-every must be >= 1 (or 0: automatic)");
-    need(o_.birth_stop_share == -1 || (o_.birth_stop_share >= 0 && o_.birth_stop_share < 1),
-         "the birth stop share must be in [0, 1), or -1 for automatic");
-    need(o_.site_spacing >= 0.5, "--site-spacing must be >= 0.5 rest distances");
-    need(o_.site_min_depth >= 1, "--site-min-depth must be >= 1 radius");
-    need(o_.birth_speed_min >= 0 && o_.birth_speed_max >= o_.birth_speed_min && o_.birth_speed_max <= 1,
-         "birth speeds must satisfy 0 <= min <= max <= 1 (fractions of the top speed)");
-    need(o_.max_overlap >= 0 && o_.max_overlap < 1, "--max-overlap must be in [0, 1) (a fraction of r)");
-    need(o_.field_spacing > 0 && o_.field_spacing <= 2, "the field spacing must be in (0, 2] radii");
-    need(o_.time_step > 0 && o_.time_step <= 0.05, "--time-step must be in (0, 0.05] tau");
-    need(o_.sync_every >= 1 && o_.sync_every <= 1000, "sync_every must be 1..1000");
-    need(o_.sort_every >= 0, "sort_every must be >= 0 (0: never)");
-    // Bounds that keep every pass finite: a site that always has room, a
-    // patience of nothing, a vanishing step or speed would make a fill
-    // endless or empty.
-    need(o_.birth_clearance == 0 || (o_.birth_clearance >= 0.25 && o_.birth_clearance <= 4),
-         "--birth-clearance must be 0 (automatic) or in [0.25, 4] rest distances; below 0.25 a site never "
-         "fills up and births go on without end");
-    need(o_.blocked.patience >= std::max(100, 10 * o_.birth_every) && o_.blocked.patience <= 10'000'000,
-         "--patience must be at least 100 steps and 10 birth intervals (--birth-every), at most 10,000,000 "
-         "(default 1500)");
-    need(o_.birth_every <= 1000, "--birth-every must be 1..1000");
-    need(o_.site_depth_share >= 0 && o_.site_depth_share <= 1,
-         "--site-depth must be in [0, 1] (a share of the deepest point's depth)");
-    need(o_.void_rounds >= 0 && o_.void_rounds <= 100, "--void-rounds must be 0..100");
-    need(o_.void_clearance > 0 && o_.void_clearance <= 4, "--void-clearance must be in (0, 4] rest distances");
-    need(o_.time_step >= 1e-4, "--time-step must be at least 0.0001 tau (smaller steps never finish)");
-    need(o_.max_step_fraction >= 1e-3 && o_.max_step_fraction <= 1, "--max-step must be in [0.001, 1] sigma");
-    need(o_.rest_distance <= 10, "--rest-distance must be 1..10");
-    need(std::isfinite(o_.epsilon) && o_.epsilon > 0, "--epsilon must be a positive number");
-    need(o_.cutoff == 0 || (o_.cutoff > 1 && o_.cutoff <= 5), "--cutoff must be 0 (purely repulsive) or in (1, 5] sigma");
-    need(o_.restitution >= 0 && o_.restitution <= 1 && o_.wall_restitution >= 0 && o_.wall_restitution <= 1,
-         "--restitution and --wall-restitution must be in [0, 1]");
-    need(std::isfinite(o_.damping) && o_.damping >= 0, "--damping must be >= 0");
-    need(o_.skin >= 0 && o_.skin <= 5, "--skin must be in [0, 5] sigma (0: automatic)");
-    need(o_.top_up_patience >= 1 && o_.rest_steps >= 1 && o_.rest_speed > 0,
-         "the settling settings must be positive");
   }
 
   // ---- pass 1: births until the object is overfull ----
@@ -713,6 +672,7 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
   Mesh local = mesh;
   for (Vec3& p : local.positions) p -= centre;
   remove_duplicate_triangles(local);  // a repeated face would count twice along a ray
+  orient_faces(local);                // inconsistent winding would give a wrong volume (load_mesh does it too)
   FillOptions o = options;
   if (o.birth_point) o.birth_point = *o.birth_point - centre;
   if (options.on_frame)
@@ -752,8 +712,12 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
                 "too thin for the radius?)");
   if (result.expected > 0 && result.particles.size() * 4 < result.expected)
     result.warnings.push_back("only " + std::to_string(result.particles.size()) + " particles of the ~" +
-                              std::to_string(result.expected) + " expected: the mesh may be thinner than the "
-                              "radius allows, open or self-intersecting (see `pfill info`)");
+                              std::to_string(result.expected) + " expected: " +
+                              (result.stop_signal == "budget"
+                                   ? std::string("pass 1 ran out of its step budget (max_steps ") +
+                                         std::to_string(o.max_steps) + "); allow more steps or leave max_steps at 0"
+                                   : std::string("the mesh may be thinner than the radius allows, open or "
+                                                 "self-intersecting (see `pfill info`)")));
   if (result.lost_outside > 2 * std::max<size_t>(result.expected, 1))
     result.warnings.push_back(std::to_string(result.lost_outside) +
                               " particles left through the surface and were removed, more than twice the "

@@ -75,6 +75,13 @@ fs::path folder_of(const fs::path& target) {
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   if (target_.filename().empty()) fail("the path names no file");
+  {  // A symbolic link stays one: the file it points to is what gets replaced.
+    std::error_code ec;
+    if (fs::is_symlink(target_, ec)) {
+      const fs::path resolved = fs::weakly_canonical(target_, ec);
+      if (!ec && !resolved.filename().empty()) target_ = resolved;
+    }
+  }
   const fs::path folder = folder_of(target_);
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
