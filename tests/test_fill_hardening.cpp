@@ -326,3 +326,14 @@ TEST_CASE("a mesh of many separate parts: every part that can hold a sphere gets
     CHECK(r.particles.size() * 10 >= r.expected * 7);
   }
 }
+
+TEST_CASE("a count with a rest distance past contact gives about that count, and the closest centres as they are") {
+  FillOptions o = small_fill(150);
+  o.rest_distance = 3;
+  const FillResult r = fill(make_icosphere(1.0, 3), o);
+  INFO("particles " << r.particles.size() << " of ~" << r.expected << ", closest " << r.metrics.min_distance);
+  CHECK(r.particles.size() >= 150 * 85 / 100);  // before: the spacing's reach past the wall was not counted (+40%)
+  CHECK(r.particles.size() <= 150 * 115 / 100);
+  CHECK(r.metrics.min_distance > 0.85 * 3);  // was 0 when no pair lay within touching reach
+  CHECK(r.metrics.min_distance < 1.05 * 3);
+}

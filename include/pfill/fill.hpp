@@ -189,6 +189,10 @@ std::string name_fill_options(const std::string& message, bool cli);
 /// surface of `area`: spheres pack looser along it) for a physics fill
 /// whose overlaps are bounded by `max_overlap` (a fraction of r; looser
 /// bounds pack denser).
-double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001);
+/// With a `rest_distance` past contact (in contact distances 2r) the radius
+/// is the rest spacing's over rest_distance, allowing for centres that lie
+/// within r of the wall while their spacing reaches past it.
+double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001,
+                             double rest_distance = 1);
 
 }  // namespace pfill
