@@ -111,7 +111,8 @@ PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count
   // The command line prints these as "pfill: warning: ..." (an open or
   // inside-out mesh, a coarsened field, colours it could not take).
   for (const std::string& w : r.warnings)
-    if (PyErr_WarnEx(PyExc_UserWarning, ("pfill: " + w).c_str(), 1) != 0) throw py::error_already_set();
+    if (PyErr_WarnEx(PyExc_UserWarning, ("pfill: " + name_fill_options(w, false)).c_str(), 1) != 0)
+      throw py::error_already_set();
 
   const ParticleSet& ps = r.particles;
   PyFillResult out;

@@ -74,5 +74,14 @@ ln -s target.ply link.ply
 [ -L link.ply ] || fail "-o link.ply replaced the symbolic link by a file"
 cmp -s link.ply target.ply || fail "the link's target was not written"
 
+# A birth point outside a box at (9..11)^3 is not echoed shifted by the box's centre.
+printf 'v 9 9 9\nv 11 9 9\nv 9 11 9\nv 11 11 9\nv 9 9 11\nv 11 9 11\nv 9 11 11\nv 11 11 11\n' > box.obj
+printf 'f 1 3 4\nf 1 4 2\nf 5 6 8\nf 5 8 7\nf 1 2 6\nf 1 6 5\nf 3 7 8\nf 3 8 4\nf 1 5 7\nf 1 7 3\nf 2 4 8\nf 2 8 6\n' >> box.obj
+refused 1 "outside the mesh" "$pfill" fill box.obj -n 60 -q --birth=0,0,0 -o b.ply
+grep -q -- "-10" err.txt && fail "--birth=0,0,0 echoed shifted: $(cat err.txt)"
+# A fill whose pass 1 ran out of --max-steps says so, not "the mesh may be thinner".
+"$pfill" fill --builtin sphere -n 400 -q --void-rounds 0 --max-steps 100 -o m.ply >/dev/null 2>steps.txt
+grep -q -- "--max-steps" steps.txt || fail "a fill cut short by --max-steps does not name it: $(cat steps.txt)"
+
 [ "$failures" -eq 0 ] && echo "all issue-33 CLI checks passed"
 exit "$failures"

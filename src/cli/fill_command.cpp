@@ -238,7 +238,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
-  for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
+  for (const std::string& w : r.warnings)
+    std::fprintf(stderr, "pfill: warning: %s\n", name_fill_options(w, true).c_str());
 
   write_particles(r.particles, a.output, wo);
   if (frames) frames->write(r.particles);
