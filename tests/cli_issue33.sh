@@ -83,5 +83,10 @@ grep -q -- "-10" err.txt && fail "--birth=0,0,0 echoed shifted: $(cat err.txt)"
 "$pfill" fill --builtin sphere -n 400 -q --void-rounds 0 --max-steps 100 -o m.ply >/dev/null 2>steps.txt
 grep -q -- "--max-steps" steps.txt || fail "a fill cut short by --max-steps does not name it: $(cat steps.txt)"
 
+# A temporary file a SIGKILL left during the final rename (its process gone) is cleaned up by the next write.
+touch .k.ply.tmp4194303-0
+"$pfill" fill "${small[@]}" -o k.ply >/dev/null || fail "a fill beside a stale temporary"
+[ ! -e .k.ply.tmp4194303-0 ] || fail "the stale temporary .k.ply.tmp4194303-0 was left"
+
 [ "$failures" -eq 0 ] && echo "all issue-33 CLI checks passed"
 exit "$failures"

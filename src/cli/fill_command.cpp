@@ -195,6 +195,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   check_output_path(a.output, "the output");
   check_output_path(a.preview, "the preview");
   check_output_path(a.report, "the report");
+  for (const std::string* path : {&a.output, &a.preview, &a.report})  // left by a SIGKILL during a rename
+    if (!path->empty() && *path != "-") remove_stale_temporaries(*path);
   warn_unused_options(a, cmd);
   const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
   if (mesh.turned_faces > 0 && !a.quiet)
