@@ -649,6 +649,7 @@ std::string no_room_message(const Mesh& mesh, double volume, double area, const 
 void refuse_stray_vertices(const Mesh& mesh, double volume, double area, const FillOptions& o) {
   const double radius = particle_radius(o, volume, area);
   if (!(radius > 0) || mesh.positions.empty()) return;
+  check_coordinates_resolve(mesh, radius);  // far out, doubles cannot hold the fill (issue 33)
   // Too many particles is the first thing to say (the run's check says it).
   const double half_rest = radius * o.rest_distance;
   if (o.count > kMaxParticles || expected_count(volume, area, half_rest, o.max_overlap, o.rest_distance) > kMaxParticles)

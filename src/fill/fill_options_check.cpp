@@ -117,6 +117,19 @@ void check_fill_options(const FillOptions& o, const Mesh& mesh, double radius) {
                 "below " + fmt(0.1 / dt));
 }
 
+void check_coordinates_resolve(const Mesh& mesh, double radius) {
+  const Box3 box = mesh.bounds();
+  if (box.empty() || !(radius > 0)) return;
+  const double far = std::max({std::abs(box.lo.x), std::abs(box.lo.y), std::abs(box.lo.z), std::abs(box.hi.x),
+                               std::abs(box.hi.y), std::abs(box.hi.z)});
+  const double spacing = far * 0x1p-52;  // about the gap between neighbouring doubles there
+  if (spacing > 0.01 * radius)
+    throw Error("the mesh lies " + fmt(far) + " from the origin, where coordinates are spaced " + fmt(spacing) +
+                " apart, " + fmt(100 * spacing / radius) + "% of the radius " + fmt(radius) +
+                ": the spheres' positions could not be written as the fill measured them; move the mesh nearer "
+                "the origin");
+}
+
 std::string name_fill_options(const std::string& message, bool cli) {
   struct Name {
     const char* cpp;

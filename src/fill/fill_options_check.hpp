@@ -16,4 +16,10 @@ void check_fill_options(const FillOptions& options);
 /// motion. `mesh` and `options.birth_point` in the same coordinates.
 void check_fill_options(const FillOptions& options, const Mesh& mesh, double radius);
 
+/// The mesh in its own coordinates (before the fill centres it): refuses one
+/// so far from the origin that doubles there are spaced by more than 1% of
+/// `radius` (spot at 1e14: the fill's own summary said 0.08% overlaps, its
+/// particles, moved back, overlapped by 13%).
+void check_coordinates_resolve(const Mesh& mesh, double radius);
+
 }  // namespace pfill
