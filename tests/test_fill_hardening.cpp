@@ -324,7 +324,15 @@ TEST_CASE("a mesh of many separate parts: every part that can hold a sphere gets
     }
     CHECK(std::count(in_part.begin(), in_part.end(), 0) == 0);
     CHECK(r.particles.size() * 10 >= r.expected * 7);
+    CHECK(r.parts == 27);
+    CHECK(r.parts_too_small == 0);
   }
+  // Three parts far too small for a sphere: counted, and the warning says so.
+  Mesh with_crumbs = parts;
+  for (int c = 0; c < 3; ++c) with_crumbs = merged(with_crumbs, moved(make_icosphere(0.06, 1), Vec3(0.75 + 1.5 * c, 0.75, 0.75)));
+  const FillResult r = fill(with_crumbs, small_fill(400));
+  CHECK(r.parts_too_small == 3);
+  CHECK(warns(r, "3 of the mesh's"));
 }
 
 TEST_CASE("a count with a rest distance past contact gives about that count, and the closest centres as they are") {

@@ -174,6 +174,8 @@ class FillRun {
       sites_ = choose_birth_sites(field_, o_.sites < 0 ? 2 : std::max(1, o_.sites), radius_, o_.site_depth_share);
     if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site (issue 33)
       const PartSites parts = add_sites_per_part(field_, radius_, sites_);
+      result_.parts = parts.parts;
+      result_.parts_too_small = parts.too_small;
       if (parts.too_small > 0)
         result_.warnings.push_back(std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
                                    " closed parts are too small for a sphere of radius " + fmt(radius_) + " and stay empty");
