@@ -79,6 +79,7 @@ PyFillResult run_fill(const py::object& mesh_arg, const py::kwargs& keywords) {
     setting->set(o, setting_text(name, value));
   }
   if (o.radius <= 0 && o.count == 0) o.count = 4000;  // the command line's default
+  check_fill_options(o);  // before the mesh is read, as the command line does
 
   const Mesh mesh = mesh_from(mesh_arg);
   FillHooks hooks(progress, cancelled);
@@ -141,7 +142,12 @@ py::object check(const py::object& positions, const py::object& radii, const py:
     ps.radii.assign(r.data(), r.data() + r.shape(0));
   }
   validate(ps, "particles");
-  const Mesh mesh = mesh_from(mesh_arg);
+  if (!(tolerance >= 0 && tolerance <= 1)) throw Error("tolerance must be a number in 0..1 (a fraction of r)");
+  Mesh mesh = mesh_from(mesh_arg);
+  // About the mesh's centre, as fill() works (the ray tracer is single precision).
+  const Vec3 centre = mesh.bounds().centre();
+  for (Vec3& p : mesh.positions) p -= centre;
+  for (Vec3& p : ps.positions) p -= centre;
   PackingMetrics m;
   {
     py::gil_scoped_release release;

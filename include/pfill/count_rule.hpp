@@ -15,14 +15,16 @@ double expected_packing(double max_overlap, double wall_share);
 
 /// About how many spheres fill `volume` (enclosed by a surface of `area`)
 /// when they keep `half_rest` (half the rest distance; r for touching
-/// spheres) from each other, overlapping by at most `max_overlap`.
-double expected_fill_count(double volume, double area, double half_rest, double max_overlap);
+/// spheres) from each other, overlapping by at most `max_overlap`, at a
+/// `rest_distance` in contact distances 2r (centres need only r of room
+/// from the wall, so sparse spacings reach past it).
+double expected_fill_count(double volume, double area, double half_rest, double max_overlap,
+                           double rest_distance = 1);
 
-/// The half rest distance that gives about `count` spheres in `volume`
-/// (enclosed by a surface of `area`) at the bound `max_overlap`: the
-/// radius of a fill of touching spheres (rest distance 2r), or that
-/// radius times the rest distance in contact distances. 0 for no volume or
-/// no count.
-double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001);
+/// The sphere radius that gives about `count` spheres in `volume` (enclosed
+/// by a surface of `area`) at the bound `max_overlap` and the rest distance
+/// `rest_distance` (contact distances). 0 for no volume or no count.
+double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001,
+                             double rest_distance = 1);
 
 }  // namespace pfill

@@ -164,6 +164,9 @@ struct FillResult {
   ContainmentRepair containment;
   std::vector<PassStats> passes;
   std::vector<BirthSite> sites;
+  /// Meshes of several parts: the closed parts of the inside the field
+  /// resolves, and how many of them are too small for a sphere (left empty).
+  size_t parts = 0, parts_too_small = 0;
   double field_seconds = 0;
   size_t field_bytes = 0;
   double field_spacing = 0;

@@ -40,6 +40,11 @@ const std::vector<FillSetting>& fill_settings();
 /// nullptr.
 const FillSetting* find_fill_setting(const std::string& name);
 
+/// Throws pfill::Error with one line naming the first setting of `o` out of
+/// its range (fill() checks too: callers need this only to fail before
+/// reading a mesh). src/fill/fill_options_check.cpp
+void check_fill_options(const FillOptions& o);
+
 /// `message` with each setting's name replaced by its flag: the library's
 /// errors name settings, the command line shows them as the user typed them.
 std::string with_flags(const std::string& message);

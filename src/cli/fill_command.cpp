@@ -1,6 +1,11 @@
 // `pfill fill [MESH] -o OUT [options]`: the main job. Without a mesh it
 // fills a built-in shape and writes into the current folder.
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 
 #include <chrono>
 #include <cstdio>
@@ -97,34 +102,89 @@ class ProgressPrinter {
   std::chrono::steady_clock::time_point last_{};
 };
 
-// Fails before a long fill, not after it, when an output cannot be written.
-void check_output_folder(const std::string& path, const char* what) {
+// A setting out of range is bad usage (exit 2): one line naming the flag.
+[[noreturn]] void usage_error(const std::string& message) {
+  std::fprintf(stderr, "pfill: error: %s\n", excerpt(message, 600).c_str());
+  throw ExitStatus{kExitUsage};
+}
+
+// Fails before a long fill, not after it, when an output cannot be written:
+// a missing or unwritable folder (a read-only file system, /sys), a path
+// that is a folder. Probes the folder with a file of its own, removed at once.
+void check_output_path(const std::string& path, const char* what) {
   if (path.empty() || path == "-") return;  // "-": standard output
   const fs::path folder = fs::absolute(fs::path(path)).parent_path();
   std::error_code ec;
+  const std::string start = "cannot write " + std::string(what) + " '" + path + "': ";
   if (!fs::is_directory(folder, ec))
-    throw Error("cannot write " + std::string(what) + " '" + path + "': the folder " + folder.string() +
-                " does not exist; create it or choose another path");
+    throw Error(start + "the folder " + folder.string() + " does not exist; create it or choose another path");
+  if (fs::is_directory(fs::path(path), ec)) throw Error(start + "it is a folder; give a file name");
+  const fs::path probe = folder / (".pfill-probe-" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int error = errno;
+    if (error != EEXIST)
+      throw Error(start + "the folder " + folder.string() + " is not writable (" + std::strerror(error) + ")");
+    return;
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
-void run_fill(FillArgs& a) {
+// Options that do nothing for the chosen output say so (stderr, not an error).
+void warn_unused_options(const FillArgs& a, const CLI::App& cmd) {
+  const ParticleFormat f = particle_format_from_path(a.output);
+  auto warn = [](const std::string& what) { std::fprintf(stderr, "pfill: warning: %s\n", what.c_str()); };
+  if (cmd.count("--density") > 0 && f != ParticleFormat::LammpsData)
+    warn("--density applies to LAMMPS .data output only; ignored for " + a.output);
+  if (cmd.count("--every") > 0 && a.frames.empty()) warn("--every applies to --frames only; ignored");
+  if (a.spheres && f != ParticleFormat::Glb) warn("--spheres applies to .glb output only; ignored for " + a.output);
+  if (cmd.count("--attribute-names") > 0 && f != ParticleFormat::Ply && f != ParticleFormat::Csv && a.frames.empty())
+    warn("--attribute-names applies to .ply and .csv output only; ignored for " + a.output);
+}
+
+// The settings as the library takes them (the table's parsers), checked
+// before the mesh is read: a bad value is bad usage, named by its flag.
+void parse_settings(FillArgs& a, const CLI::App& cmd) {
+  try {
+    for (const FillSetting& setting : fill_settings())
+      if (cmd.count(setting.flag()) > 0) setting.set(a.options, a.settings[setting.name]);
+    if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+    check_fill_options(a.options);
+  } catch (const Error& e) {
+    usage_error(with_flags(e.what()));
+  }
+}
+
+void run_fill(FillArgs& a, const CLI::App& cmd) {
   const bool from_file = !a.mesh.empty();
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
+  parse_settings(a, cmd);
   refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}},
                         {"--frames", a.frames});
-  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
-  check_output_folder(a.output, "the output");
   particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
+  if (!a.preview.empty()) {
+    std::string ext = fs::path(a.preview).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png") throw Error("--preview '" + a.preview + "': the preview is a PNG picture; give a .png path");
+  }
+  check_output_path(a.output, "the output");
+  check_output_path(a.preview, "the preview");
+  check_output_path(a.report, "the report");
+  for (const std::string* path : {&a.output, &a.preview, &a.report})  // left by a SIGKILL during a rename
+    if (!path->empty() && *path != "-") remove_stale_temporaries(*path);
+  warn_unused_options(a, cmd);
+  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
+  if (mesh.turned_faces > 0 && !a.quiet)
+    std::fprintf(stderr, "pfill: warning: the winding was inconsistent: %s faces were turned to agree with their "
+                         "neighbours\n", thousands(mesh.turned_faces).c_str());
   ParticleWriteOptions wo;
   wo.spheres = a.spheres;
   wo.velocities = a.velocities;
   wo.names = parse_attribute_names(a.attribute_names);
   wo.density = a.density;
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
-  check_output_folder(a.preview, "the preview");
-  check_output_folder(a.report, "the report");
-  if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
@@ -145,12 +205,20 @@ void run_fill(FillArgs& a) {
     r = fill(mesh, a.options);
   } catch (const Cancelled&) {
     defer_interrupts_to(nullptr);
-    std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
+    if (frames && frames->frames_written() > 0)
+      std::fprintf(stderr, "\npfill: interrupted: the fill stopped; %llu frames are in %s, no output was written\n",
+                   static_cast<unsigned long long>(frames->frames_written()), a.frames.c_str());
+    else
+      std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
     throw ExitStatus{128 + static_cast<int>(interrupted)};  // as a shell reports a process ended by that signal
+  } catch (const Error& e) {
+    defer_interrupts_to(nullptr);
+    throw Error(with_flags(e.what()));  // the library names its settings as C++ does
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
-  for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
+  for (const std::string& w : r.warnings)
+    std::fprintf(stderr, "pfill: warning: %s\n", with_flags(w).c_str());
 
   write_particles(r.particles, a.output, wo);
   if (frames) frames->write(r.particles);
@@ -237,7 +305,7 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
       ->group(details);
   cmd->add_option("--density", a->density, "LAMMPS .data: every particle's density (mass per volume, in the "
                                            "units of your LAMMPS run)")
-      ->check(CLI::PositiveNumber)
+      ->check(positive_number())
       ->capture_default_str()
       ->group(details);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
@@ -248,15 +316,7 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
       throw Error("give a mesh file or --builtin NAME, not both");
     if (cmd->count("--radius") > 0 && cmd->count("--count") > 0)
       throw Error("give -r (the radius) or -n (a count, which picks the radius), not both");
-    try {
-      for (const FillSetting& setting : fill_settings())
-        if (cmd->count(setting.flag()) > 0) setting.set(a->options, a->settings[setting.name]);
-      run_fill(*a);
-    } catch (const Cancelled&) {
-      throw;
-    } catch (const Error& e) {
-      throw Error(with_flags(e.what()));  // the library names settings; here they are flags
-    }
+    run_fill(*a, *cmd);
   });
   return cmd;
 }

@@ -45,8 +45,8 @@ std::vector<std::string> warnings(const MeshDiagnostics& d) {
     w.push_back("the mesh is inside-out (negative volume): a fill will reverse its orientation and go on");
   if (d.misoriented_edges > 0)
     w.push_back(thousands(d.misoriented_edges) +
-                " edges join triangles of opposite winding: the volume is unreliable; a fill uses ray parity, "
-                "which does not depend on winding");
+                " edges join triangles of opposite winding that pfill could not turn to agree (a non-orientable "
+                "surface?): the volume, and a radius from a count, are unreliable; repair the mesh");
   if (d.overlapping())
     w.push_back(std::string(d.components > 1 ? "parts intersect or lie inside one another" : "the surface intersects itself") +
                 " (some region is enclosed " + (d.winding->min_winding < 0 ? "inside out" : "twice") +
@@ -139,6 +139,9 @@ void add_info_command(CLI::App& app) {
     } else {
       print_text(mesh.source, d);
     }
+    if (mesh.turned_faces > 0)
+      std::cerr << "pfill: warning: the winding was inconsistent: " << thousands(mesh.turned_faces)
+                << " faces were turned to agree with their neighbours (a fill does the same)\n";
     for (const std::string& w : warnings(d)) std::cerr << "pfill: warning: " << w << "\n";
   });
 }

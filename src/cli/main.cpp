@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "pfill/atomic_file.hpp"
+#include "pfill/error.hpp"
 
 int main(int argc, char** argv) {
   pfill::remove_temporary_files_on_signals();  // Ctrl-C while writing leaves no hidden file
@@ -50,7 +51,10 @@ int main(int argc, char** argv) {
   try {
     app.parse(static_cast<int>(args.size()), const_cast<char**>(args.data()));
   } catch (const CLI::ParseError& e) {
-    return app.exit(e) == 0 ? pfill::cli::kExitOk : pfill::cli::kExitUsage;  // --help and --version exit 0
+    if (e.get_exit_code() == 0) return app.exit(e) == 0 ? pfill::cli::kExitOk : pfill::cli::kExitUsage;  // --help, --version
+    // One line, capped as pfill's own errors are (a 120 KB argument is not echoed whole).
+    std::cerr << "pfill: error: " << pfill::excerpt(e.what(), 600) << " (see pfill --help)\n";
+    return pfill::cli::kExitUsage;
   } catch (const pfill::cli::ExitStatus& e) {
     return e.status;
   } catch (const std::exception& e) {

@@ -66,6 +66,7 @@ class FillRun {
     if (!(diagnostics_.volume() > 0))
       throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
     plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_);
+    check_fill_options(o_, mesh_, plan_.radius);
     if (diagnostics_.boundary_edges > 0)
       result_.warnings.push_back("the mesh is open (" + std::to_string(diagnostics_.boundary_loops) +
                                  " holes): inside is decided by a majority of rays; particles near the holes may "
@@ -88,6 +89,15 @@ class FillRun {
     result_.field_bytes = stats.bytes;
     result_.field_spacing = plan_.field.spacing;
     sites_ = plan_birth_sites(plan_, field_, *boundary_, o_);
+    if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site
+      const PartSites parts = add_sites_per_part(field_, plan_.radius, sites_);
+      result_.parts = parts.parts;
+      result_.parts_too_small = parts.too_small;
+      if (parts.too_small > 0)
+        result_.warnings.push_back(std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
+                                   " closed parts are too small for a sphere of radius " +
+                                   short_number(plan_.radius) + " and stay empty");
+    }
     result_.sites = sites_;
 
     if (!o_.engine) device_ = std::make_unique<Device>(o_.device);
@@ -207,9 +217,10 @@ std::string no_room_message(const Mesh& mesh, double volume, double area, const 
 void refuse_stray_vertices(const Mesh& mesh, double volume, double area, const FillOptions& o) {
   const double radius = particle_radius(o, volume, area);
   if (!(radius > 0) || mesh.positions.empty()) return;
+  check_coordinates_resolve(mesh, radius);  // far out, doubles cannot hold the fill
   // Too many particles is the first thing to say (the run's check says it).
   const double half_rest = radius * o.rest_distance;
-  if (o.count > kMaxParticles || expected_fill_count(volume, area, half_rest, o.max_overlap) > kMaxParticles)
+  if (o.count > kMaxParticles || expected_fill_count(volume, area, half_rest, o.max_overlap, o.rest_distance) > kMaxParticles)
     return;
   const Vec3 size = mesh.bounds().size();
   const double spacing = o.field_spacing * radius, margin = 2 * radius + 3 * spacing;
@@ -245,6 +256,7 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
   Mesh local = mesh;
   for (Vec3& p : local.positions) p -= centre;
   remove_duplicate_triangles(local);  // a repeated face would count twice along a ray
+  orient_faces(local);                // inconsistent winding would give a wrong volume (load_mesh does it too)
   FillOptions o = options;
   if (o.birth) o.birth = *o.birth - centre;
   if (options.on_frame)
@@ -284,8 +296,12 @@ FillResult fill(const Mesh& mesh, const FillOptions& options) {
                 "too thin for the radius?)");
   if (result.expected > 0 && result.particles.size() * 4 < result.expected)
     result.warnings.push_back("only " + std::to_string(result.particles.size()) + " particles of the ~" +
-                              std::to_string(result.expected) + " expected: the mesh may be thinner than the "
-                              "radius allows, open or self-intersecting (see `pfill info`)");
+                              std::to_string(result.expected) + " expected: " +
+                              (result.stop_signal == "budget"
+                                   ? std::string("pass 1 ran out of its step budget (max_steps ") +
+                                         std::to_string(o.max_steps) + "); allow more steps or leave max_steps at 0"
+                                   : std::string("the mesh may be thinner than the radius allows, open or "
+                                                 "self-intersecting (see `pfill info`)")));
   if (result.lost_outside > 2 * std::max<size_t>(result.expected, 1))
     result.warnings.push_back(std::to_string(result.lost_outside) +
                               " particles left through the surface and were removed, more than twice the "

@@ -32,7 +32,7 @@ constexpr double kDeviceBytesFixed = 1024 * 96;
 }  // namespace
 
 double particle_radius(const FillOptions& o, double volume, double area) {
-  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, area, o.count, o.max_overlap) / o.rest_distance;
+  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, area, o.count, o.max_overlap, o.rest_distance);
 }
 
 FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o) {
@@ -42,7 +42,7 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
   if (!(plan.volume > 0)) throw Error("the mesh encloses no volume; pfill needs a closed solid");
   plan.radius = particle_radius(o, plan.volume, plan.area);
   if (!(plan.radius > 0)) throw Error("give a particle radius (-r) or a count (-n)");
-  plan.expected = expected_fill_count(plan.volume, plan.area, plan.radius * o.rest_distance, o.max_overlap);
+  plan.expected = expected_fill_count(plan.volume, plan.area, plan.radius * o.rest_distance, o.max_overlap, o.rest_distance);
   if (plan.expected > kMaxParticles)
     throw Error("a radius of " + short_number(plan.radius) + " would give about " + short_number(plan.expected) +
                 " particles, more than pfill handles (" + short_number(kMaxParticles) +
@@ -86,11 +86,10 @@ std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& 
   if (o.birth) {
     const Vec3 p = *o.birth;
     if (!boundary.inside(p))
-      throw Error("the birth point " + short_number(p.x) + "," + short_number(p.y) + "," + short_number(p.z) +
-                  " (--birth) is outside the mesh; give a point inside it or leave it out");
+      throw Error("birth is outside the mesh; give a point inside it or leave it out");
     const double depth = -boundary.signed_distance(p);
     if (depth < plan.radius)
-      throw Error("the birth point (--birth) is only " + short_number(depth) + " from the surface, less than the radius " +
+      throw Error("birth is only " + short_number(depth) + " from the surface, less than the radius " +
                   short_number(plan.radius) + "; move it deeper inside");
     sites[0] = {p, depth};
   }

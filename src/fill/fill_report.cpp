@@ -50,6 +50,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"peak_memory_bytes", r.peak_memory},
           {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
           {"sites", sites},
+          {"parts", {{"closed", r.parts}, {"too_small", r.parts_too_small}}},
           {"warnings", r.warnings}};
 }
 

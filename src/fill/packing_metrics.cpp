@@ -66,7 +66,8 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   }
   m.contained_share = static_cast<double>(contained) / particles.size();
 
-  const CentreGrid grid(particles.positions, 2 * max_radius(particles) * (1 + options.contact_gap));
+  const double cell = 2 * max_radius(particles) * (1 + options.contact_gap);
+  const CentreGrid grid(particles.positions, cell);
   size_t contacts = 0;
   double overlap_sum = 0;
   double min_ratio = std::numeric_limits<double>::infinity();
@@ -76,7 +77,7 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
       const double ri = particles.radii[i], rj = particles.radii[j], mean_r = 0.5 * (ri + rj);
       const double d = length(particles.positions[j] - particles.positions[i]);
       if (d < ri + rj + options.contact_gap * mean_r) ++contacts;
-      min_ratio = std::min(min_ratio, d / (ri + rj));
+      if (d <= cell) min_ratio = std::min(min_ratio, d / (ri + rj));  // farther: maybe not the closest pair
       const double fraction = (ri + rj - d) / mean_r;
       if (fraction > kTouching) {
         ++m.overlapping_pairs;
@@ -87,6 +88,20 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   }
   m.mean_overlap = m.overlapping_pairs ? overlap_sum / m.overlapping_pairs : 0;
   m.mean_coordination = 2.0 * contacts / particles.size();
+  // No pair within touching reach (a sparse set: --rest-distance 5 keeps
+  // centres ~10 r apart): look farther, doubling the reach, rather than
+  // report 0 (issue 33: "closest centres 0.000000" where the real value was 4.7).
+  const double diagonal = particles.bounds().diagonal();
+  for (double reach = 4 * max_radius(particles); !std::isfinite(min_ratio) && particles.size() > 1 && reach <= 4 * diagonal;
+       reach *= 2) {
+    const CentreGrid wide(particles.positions, reach);
+    for (size_t i = 0; i < particles.size(); ++i)
+      wide.for_near(particles.positions[i], [&](uint32_t j) {
+        if (j <= i) return;
+        const double d = length(particles.positions[j] - particles.positions[i]);
+        if (d <= reach) min_ratio = std::min(min_ratio, d / (particles.radii[i] + particles.radii[j]));
+      });
+  }
   m.min_distance = std::isfinite(min_ratio) ? min_ratio : 0;
   if (options.holes) {
     double mean_r = 0;
