@@ -11,7 +11,7 @@ same_radius() {  # MESH N: info's radius for N against fill -n N's
 import json, sys
 print([r['radius'] for r in json.load(sys.stdin)['radius_for_count'] if r['count'] == $n][0])")
   # The radius is chosen before any step: a short pass 1 is enough to read it.
-  fill=$("$pfill" fill "$mesh" -n "$n" --max-steps 50 --settle-steps 1 --hole-rounds 0 -o f.csv --json -q 2>/dev/null |
+  fill=$("$pfill" fill "$mesh" -n "$n" --max-steps 100 --settle-steps 1 --hole-rounds 0 -o f.csv --json -q 2>/dev/null |
          python3 -c "import json, sys; print(json.load(sys.stdin)['radius'])")
   python3 -c "import sys; a, b = $info, $fill; sys.exit(0 if abs(a - b) <= 1e-9 * abs(b) else 1)" ||
     fail "$mesh -n $n: info lists radius $info, fill uses $fill"

@@ -37,7 +37,7 @@ def options_of(command):
             continue
         names = m.group(1).split(",")
         name = names[-1]
-        if name in ("--help", "--version"):
+        if name in ("--help", "--help-all", "--version"):
             continue
         found.append((name, names, m.group(2) is not None))
     return found

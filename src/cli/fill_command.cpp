@@ -305,7 +305,7 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
       ->group(details);
   cmd->add_option("--density", a->density, "LAMMPS .data: every particle's density (mass per volume, in the "
                                            "units of your LAMMPS run)")
-      ->check(positive_number())
+      ->check(positive_number("--density"))
       ->capture_default_str()
       ->group(details);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");

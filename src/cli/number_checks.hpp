@@ -30,13 +30,14 @@ inline CLI::Validator whole_number(uint64_t lo, uint64_t hi) {
 }
 
 /// A finite number > 0.
-inline CLI::Validator positive_number() {
+/// `flag`: named in the message (CLI11 leaves it out for some options).
+inline CLI::Validator positive_number(const std::string& flag = "") {
   return CLI::Validator(
-      [](std::string& text) -> std::string {
+      [flag](std::string& text) -> std::string {
         char* end = nullptr;
         const double v = std::strtod(text.c_str(), &end);
         if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0))
-          return "'" + text + "' is not a positive number";
+          return (flag.empty() ? "" : flag + " ") + "'" + text + "' is not a positive number";
         return "";
       },
       "POSITIVE", "positive_number");

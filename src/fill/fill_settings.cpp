@@ -19,7 +19,7 @@ namespace {
 
 /// Error messages quote at most this much of a value.
 std::string quoted(const std::string& text) {
-  return "'" + (text.size() > 40 ? text.substr(0, 40) + "..." : text) + "'";
+  return "'" + excerpt(text, 40) + "'";
 }
 
 /// A finite number, the whole text.
