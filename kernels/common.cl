@@ -69,6 +69,25 @@
 #define PF_FIX_MAX 1.0e6f
 #endif
 
+#ifndef PF_POLY
+#define PF_POLY 0
+#define PF_RS_REF 1.0f
+#define PF_INV_RS_REF2 1.0f
+#define PF_INV_RS_REF 1.0f
+#define PF_REACH_REF 1.0f
+#endif
+
+/* A pair's scale squared q^2 (physics.cl PF_DEFINE_PAIR_SCALE2) from its
+ * r_i + r_j: with unequal spheres (PF_POLY: EngineConstants::polydisperse)
+ * the rule, exactly 1 for two reference spheres; with equal ones the
+ * constant 1, which the compiler folds away (x * 1 is x), so that equal
+ * spheres run the very code and constants they ran before. */
+#if PF_POLY
+#define PF_PAIR_Q2(rs) pf_pair_scale2(rs, PF_RS_REF, PF_INV_RS_REF2)
+#else
+#define PF_PAIR_Q2(rs) 1.0f
+#endif
+
 /* Bits a step sets for a particle (pf_build_list, the wall). */
 #define PF_FLAGGED_BIT 0x1u
 #define PF_OVERFLOW_BIT 0x2u

@@ -6,6 +6,14 @@
  * time as float8 vectors. PF_ROW(list, i) is particle i's row, PF_AT(row,
  * k) its entry k; capacities are multiples of 8 entries. */
 #define PF_ROW(list, i) ((list) + (size_t)(i) * PF_LIST_CAP)
+
+/* physics.cl's pair scale at 8 lanes, and PF_PAIR_Q2's 8-lane form. */
+PF_DEFINE_PAIR_SCALE2(pf_pair_scale2_8, float8)
+#if PF_POLY
+#define PF_PAIR_Q2_8(rs) pf_pair_scale2_8(rs, PF_RS_REF, PF_INV_RS_REF2)
+#else
+#define PF_PAIR_Q2_8(rs) ((float8)(1.0f))
+#endif
 #define PF_AT(row, k) ((row)[k])
 
 /* With PF_NEWTON the rows of each block are packed one after the other
@@ -137,9 +145,17 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
     dz = xi.z - dz;
     const float8 d2 = dx * dx + dy * dy + dz * dz;
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-    const int8 within = (lane < (int8)((int)count)) & (d2 < PF_RI2);
+    int8 within = (lane < (int8)((int)count)) & (d2 < PF_RI2);
     /* (1 + 1e-5: the rounding of the square, on the safe side) */
+#if PF_POLY
+    /* the pair's own reach: its scaled cutoff or contact distance, plus the inner skin */
+    const float8 q = (rs + xi.w) * PF_INV_RS_REF;
+    const float8 pair_reach = fmax(q * PF_REACH_REF, rs + xi.w) + PF_INNER_SKIN;
+    within &= d2 < pair_reach * pair_reach * 1.00001f;
+    const float8 reach = fmax(rs + xi.w, PF_CONTACT * q) + PF_INNER_SKIN;
+#else
     const float8 reach = fmax(rs + xi.w, PF_CONTACT) + PF_INNER_SKIN;
+#endif
     const int8 near = within & (d2 < reach * reach * 1.00001f);
     const uint8 entries = vload8(0, row + k);
     pf_store_hits8(inner, near_count, entries, near, PF_ENTRY(i));

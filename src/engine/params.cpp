@@ -70,8 +70,16 @@ EngineConstants derive_constants(const EngineParams& p) {
   const double zeta = p.restitution >= 1 ? 0 : -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
   c.dashpot = 2 * zeta * std::sqrt(k);
   c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
+  // Unequal spheres: each pair's lengths scale with (r_i + r_j) / (2 radius)
+  // (physics.cl PF_DEFINE_PAIR_SCALE2), the largest pair's by max_radius /
+  // radius. A max_radius within kEqualRadiusTolerance of radius (what the
+  // fill passes for equal spheres, whose radii come back as floats) runs
+  // every pair at scale 1, as equal spheres.
+  c.polydisperse = c.max_radius > p.radius * (1 + kEqualRadiusTolerance);
+  const double q_max = c.polydisperse ? c.max_radius / p.radius : 1.0;
   c.skin = skin_sigma * c.sigma;
-  c.list_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.skin;
+  // (2 max_radius: a sphere up to max_radius touches at r_i + r_j even below the scaled rest distance)
+  c.list_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.skin;
   c.cell_size = c.list_reach;
   // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
   const double s_min = 0.8 * std::min(2 * p.radius, rest);
@@ -84,7 +92,7 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.list_capacity = static_cast<unsigned>(std::ceil(in_reach) + 8);
   c.list_capacity = (c.list_capacity + 7) / 8 * 8;
   c.inner_skin = p.inner_skin_sigma * c.sigma;
-  c.inner_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.inner_skin;
+  c.inner_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.inner_skin;
   c.a_half = even_half(a);
   c.b_half = even_half(b);
   return c;
