@@ -107,10 +107,17 @@ TEST_CASE("polydisperse engine: the pair scale is exactly 1 for two reference sp
   CHECK(ref.pair_scale2(0.6) == 1.0);
   CHECK(ref.pair_scale2(1.2) == doctest::Approx(4.0).epsilon(1e-12));
   CHECK(ref.pair_scale2(2.4) == doctest::Approx(16.0).epsilon(1e-12));
-  // what the fill passes for equal spheres (radii back from floats) is not polydisperse
-  p.max_radius = 0.3 * (1 + 1e-6);
+  // what the fill and its finish pass for equal spheres is not polydisperse...
+  p.max_radius = 0.3 * (1 + 1e-6) / (1 - 0.0005);
   CHECK_FALSE(ReferenceEngine(p).constants().polydisperse);
   CHECK(ReferenceEngine(p).pair_scale2(1.2) == 1.0);
+  // ...unless asked, and a large spread is not unless told off
+  p.pair_scaling = PairScaling::on;
+  CHECK(ReferenceEngine(p).constants().polydisperse);
+  p.max_radius = 1.2;
+  p.pair_scaling = PairScaling::off;
+  CHECK_FALSE(ReferenceEngine(p).constants().polydisperse);
+  CHECK(derive_constants(p).list_reach < 2 * 1.2 + 1.0);
 }
 
 TEST_CASE("polydisperse engine: every step form matches the reference (radii 1:2 and 1:4 mixed)") {

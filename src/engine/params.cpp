@@ -72,10 +72,12 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
   // Unequal spheres: each pair's lengths scale with (r_i + r_j) / (2 radius)
   // (physics.cl PF_DEFINE_PAIR_SCALE2), the largest pair's by max_radius /
-  // radius. A max_radius within kEqualRadiusTolerance of radius (what the
-  // fill passes for equal spheres, whose radii come back as floats) runs
-  // every pair at scale 1, as equal spheres.
-  c.polydisperse = c.max_radius > p.radius * (1 + kEqualRadiusTolerance);
+  // radius. Automatic: a max_radius within kEqualRadiusTolerance of radius
+  // (what the fill and its finish pass for equal spheres) runs every pair
+  // at scale 1, as equal spheres.
+  c.polydisperse = p.pair_scaling == PairScaling::automatic
+                       ? c.max_radius > p.radius * (1 + kEqualRadiusTolerance)
+                       : p.pair_scaling == PairScaling::on;
   const double q_max = c.polydisperse ? c.max_radius / p.radius : 1.0;
   c.skin = skin_sigma * c.sigma;
   // (2 max_radius: a sphere up to max_radius touches at r_i + r_j even below the scaled rest distance)

@@ -21,6 +21,8 @@ enum class Newton { automatic, on, off };
 enum class PairQueue { automatic, on, off };
 /// Whether the `cpu` form prunes inner lists from the lists: see EngineParams::inner_lists.
 enum class InnerLists { automatic, on, off };
+/// Whether each pair's lengths scale with its radii: see EngineParams::pair_scaling.
+enum class PairScaling { automatic, on, off };
 
 struct DeviceInfo;
 
@@ -34,10 +36,18 @@ struct PhysicsParams {
   /// capacities are set for this radius: with unequal spheres make it the
   /// smallest.
   double radius = 0.5;
-  /// Largest radius a particle may have; 0: `radius`. Above radius (by more
-  /// than kEqualRadiusTolerance) the pairs' lengths scale with their radii
-  /// and the cells and lists reach the largest pair.
+  /// Largest radius a particle may have; 0: `radius`. With pair_scaling
+  /// the cells and lists reach the largest pair's scaled cutoff.
   double max_radius = 0;
+  /// Unequal spheres: `on` scales each pair's sigma, cutoff, rest distance
+  /// and dashpot by q = (r_i + r_j) / (2 radius) (physics.cl
+  /// PF_DEFINE_PAIR_SCALE2: exactly 1 for two spheres of `radius`), so
+  /// every pair has the same potential in its own units and the same
+  /// restitution; `off` runs every pair at q = 1 (one sigma; contacts still
+  /// at r_i + r_j), as equal spheres always did. `automatic`: on when
+  /// max_radius exceeds radius by more than kEqualRadiusTolerance (the
+  /// fill's equal spheres pass a max_radius a little above their radius).
+  PairScaling pair_scaling = PairScaling::automatic;
   double rest_distance = 0;        ///< centre distance at the potential's minimum; 0: 2 * radius (touching)
   double eps = 1;                  ///< depth of the potential well (> 0)
   double exponent_a = 12;          ///< repulsive exponent a (> b)
@@ -164,10 +174,10 @@ struct EngineConstants {
   double dashpot = 0;        ///< 2 zeta sqrt(k): contact damping (physics.cl pf_contact_damping)
   double cell_size = 0;      ///< cell edge: the list reach
   double max_radius = 0;
-  /// max_radius above radius by more than kEqualRadiusTolerance: each pair's
-  /// sigma, cutoff, rest distance and dashpot scale with (r_i + r_j) / (2
-  /// radius) (physics.cl PF_DEFINE_PAIR_SCALE2); otherwise every pair runs
-  /// at scale 1 (equal spheres, as before).
+  /// EngineParams::pair_scaling resolved: each pair's sigma, cutoff, rest
+  /// distance and dashpot scale with (r_i + r_j) / (2 radius) (physics.cl
+  /// PF_DEFINE_PAIR_SCALE2); otherwise every pair runs at scale 1 (equal
+  /// spheres, as before).
   bool polydisperse = false;
   unsigned cell_capacity = 0;  ///< particles a cell can list (more are dropped and counted as overflow)
   double skin = 0;             ///< neighbour-list skin
@@ -178,8 +188,11 @@ struct EngineConstants {
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
 
-/// max_radius up to radius (1 + this) is equal spheres (EngineConstants::polydisperse).
-constexpr double kEqualRadiusTolerance = 1e-5;
+/// With PairScaling::automatic, max_radius up to radius (1 + this) is
+/// equal spheres (EngineConstants::polydisperse): the finish passes radius
+/// (1 + 1e-6) / (1 - max_overlap / 2), and a spread this small changes
+/// the pairs' lengths by at most half of it.
+constexpr double kEqualRadiusTolerance = 0.1;
 
 /// Steps of the wall's push back inside along the field's gradient
 /// (physics.cl pf_wall_push; PF_WALL_ITERATIONS in the kernels).
