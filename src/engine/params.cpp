@@ -90,7 +90,21 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.cell_capacity = (c.cell_capacity + 7) / 8 * 8;  // whole float8 loads in the list build
   // Lists: spheres of diameter 0.9 * min(2 r, rest) at packing 0.74 within the reach.
   const double s_list = 0.9 * std::min(2 * p.radius, rest);
-  const double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
+  double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
+  if (c.polydisperse) {
+    // Lists hold each pair within its own reach (kernels/common.cl
+    // PF_LISTED): at most the reference spheres within the reference
+    // pair's reach, or those in the shell around a sphere of max_radius out
+    // to its pair's reach with one of `radius` (the largest list: the
+    // reach grows faster than the excluded core), whichever is more.
+    const double r = p.radius, R = c.max_radius, reach_ref = std::max({c.cutoff, 2 * r, rest});
+    const double reach_ss = reach_ref + c.skin;
+    const double reach_bs = std::max((R + r) / (2 * r) * std::max(c.cutoff, rest), R + r) + c.skin;
+    const double core = 0.9 * (R + r);
+    auto count = [&](double volume) { return volume * 0.74 / (M_PI / 6 * std::pow(s_list, 3)); };
+    in_reach = std::max(count(4.0 / 3.0 * M_PI * std::pow(reach_ss, 3)),
+                        count(4.0 / 3.0 * M_PI * (std::pow(reach_bs, 3) - std::pow(core, 3))));
+  }
   c.list_capacity = static_cast<unsigned>(std::ceil(in_reach) + 8);
   c.list_capacity = (c.list_capacity + 7) / 8 * 8;
   c.inner_skin = p.inner_skin_sigma * c.sigma;
