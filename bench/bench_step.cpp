@@ -17,9 +17,14 @@
 // the others. --work-group, --force-buffers, --newton (on, off),
 // --pair-queue (on, off), --inner-lists (on, off), --inner-skin (sigma),
 // --step-form (cpu, gpu) and --skin (every case's list skin, in sigma) set
-// EngineParams' values.
+// EngineParams' values. --radii-ratio K (K > 1) adds after each large case
+// the same case with unequal spheres at the same packing (mixed_system):
+// half the spheres (by number) of radius 0.5, half of 0.5 K, the large
+// ones on an FCC lattice and the small ones in its octahedral holes
+// (K >= 2; the wall field sampled K times coarser), so that the line below
+// the equal spheres' compares the cost per particle-step.
 //
-//   bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]
+//   bench_step [--radii-ratio K] [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]
 #include <algorithm>
 #include <chrono>
 #include <ctime>
@@ -55,6 +60,46 @@ namespace {
 EngineParams tuning;
 bool sort_cells = true;                          // Engine::sort_by_cells after the bulk addition (--no-sort: off)
 
+// Half of n spheres of radius kRadius ratio on an FCC lattice, half of
+// kRadius in its octahedral holes (one a lattice site: the cell's centre
+// and its edges' midpoints), at packing kPacking in a box; small random
+// velocities. Needs ratio >= 2 (a small sphere fits its hole: the hole's
+// room is 0.52 of the large radius at ratio 4, 0.58 at ratio 2). Returns
+// the box half-size.
+double mixed_system(size_t n, double ratio, std::vector<Particle>& out) {
+  const double big = kRadius * ratio;
+  const size_t n_big = (n + 1) / 2, n_small = n / 2;
+  const double volume =
+      (n_big * std::pow(big, 3) + n_small * std::pow(kRadius, 3)) * (4.0 / 3.0) * M_PI / bench::kPacking;
+  const double side = std::cbrt(volume);
+  const int cells = static_cast<int>(std::ceil(std::cbrt(n_big / 4.0)));
+  const double a = side / cells;  // FCC cell edge
+  const double h = side / 2 + big;
+  std::mt19937 rng(42);
+  std::uniform_real_distribution<double> vel(-0.5, 0.5);
+  const double basis[4][3] = {{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}};
+  const double holes[4][3] = {{0.5, 0.5, 0.5}, {0.5, 0, 0}, {0, 0.5, 0}, {0, 0, 0.5}};
+  out.clear();
+  size_t bigs = 0, smalls = 0;
+  for (int k = 0; k < cells; ++k)
+    for (int j = 0; j < cells; ++j)
+      for (int i = 0; i < cells; ++i)
+        for (int q = 0; q < 4; ++q) {
+          for (int kind = 0; kind < 2; ++kind) {
+            const double* b = kind == 0 ? basis[q] : holes[q];
+            size_t& count = kind == 0 ? bigs : smalls;
+            if (count >= (kind == 0 ? n_big : n_small)) continue;
+            Particle p;
+            p.position = Vec3(i + b[0] + 0.25, j + b[1] + 0.25, k + b[2] + 0.25) * a - Vec3(1, 1, 1) * (side / 2);
+            p.velocity = {vel(rng), vel(rng), vel(rng)};
+            p.radius = kind == 0 ? big : kRadius;
+            out.push_back(p);
+            ++count;
+          }
+        }
+  return h;
+}
+
 // The command line's settings for spheres of kRadius, restitution 0.5.
 EngineParams case_params(bool field_image) { return bench::sphere_params(tuning, field_image); }
 
@@ -63,6 +108,7 @@ struct Case {
   double cutoff_sigma;  // 0: purely repulsive
   bool small;           // steps/s with the history read every 50 steps
   bool births = false;  // also one birth a step (and one removal, to keep N), as the fill does
+  double radii_ratio = 1;  // > 1: mixed_system, half the spheres this much larger
 };
 
 // CPU seconds used by the whole process (all PoCL threads): on a shared
@@ -82,8 +128,9 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
   EngineParams p = case_params(field_image);
   p.cutoff_sigma = c.cutoff_sigma;
   std::vector<Particle> ps;
-  const double h = fcc_system(c.n, ps);
-  const ScalarGrid field = box_field(h, kRadius / 2);
+  const double h = c.radii_ratio > 1 ? mixed_system(c.n, c.radii_ratio, ps) : fcc_system(c.n, ps);
+  if (c.radii_ratio > 1) p.max_radius = kRadius * c.radii_ratio;
+  const ScalarGrid field = box_field(h, kRadius / 2 * c.radii_ratio);
 
   // Births: two lattice sites A and B are left empty; each step the newest
   // particle is removed and a newcomer (at rest) is born at the other site.
@@ -197,6 +244,8 @@ nlohmann::json run_case(Device& device, Device& profiled, const Case& c, bool qu
 
   nlohmann::json j;
   j["n"] = c.n;
+  j["radii_ratio"] = c.radii_ratio;
+  j["list_capacity"] = engine.constants().list_capacity;
   j["cutoff"] = c.cutoff_sigma > 0 ? "2.5 sigma" : "repulsive";
   j["skin_sigma"] = engine.params().skin_sigma;  // (an automatic skin resolved)
   j["sorted_by_cells"] = sort_cells;
@@ -330,6 +379,7 @@ int main(int argc, char** argv) {
   bool big = false, quick = false, fill_only = false, field_image = false;
   double skin = 0;  // --skin: every case's; 0: EngineParams' default, and FillOptions' for the fill case
   size_t only = 0;
+  double radii_ratio = 1;  // --radii-ratio: also each large case with unequal spheres
   std::string cutoff_only;  // --cutoff: "lj" (2.5 sigma) or "repulsive"; empty: both
   std::string json_path;
   for (int i = 1; i < argc; ++i) {
@@ -355,8 +405,10 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--cutoff") && i + 1 < argc) cutoff_only = argv[++i];
+    else if (!std::strcmp(argv[i], "--radii-ratio") && i + 1 < argc && std::strtod(argv[i + 1], nullptr) >= 2)
+      radii_ratio = std::strtod(argv[++i], nullptr);
     else {
-      std::fprintf(stderr, "usage: bench_step [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
+      std::fprintf(stderr, "usage: bench_step [--radii-ratio K (>= 2)] [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
       return 2;
     }
   }
@@ -368,7 +420,10 @@ int main(int argc, char** argv) {
     std::vector<size_t> large = {10000, 100000};
     if (big) large.push_back(1000000);
     for (size_t n : large)
-      for (double rc : {2.5, 0.0}) cases.push_back({n, rc, false});
+      for (double rc : {2.5, 0.0}) {
+        cases.push_back({n, rc, false});
+        if (radii_ratio > 1) cases.push_back({n, rc, false, false, radii_ratio});
+      }
     for (size_t n : {500, 1000, 4000}) cases.push_back({n, 0.0, true});
     cases.push_back({4000, 0.0, true, true});
     nlohmann::json all;
@@ -394,6 +449,7 @@ int main(int argc, char** argv) {
       if (!cutoff_only.empty() && cutoff_only != (c.cutoff_sigma > 0 ? "lj" : "repulsive")) continue;
       nlohmann::json j = run_case(device, profiled, c, quick, image);
       j["field"] = image ? "image" : "buffer";
+      if (c.radii_ratio > 1) std::printf("radii 1:%g ", c.radii_ratio);
       std::printf("%sN=%-6zu%s %-10s %10.0f steps/s %12.4g particle-steps/s %9.1f us/step %9.1f cpu-us/step  kernels(us/step):",
                   label(image), c.n, c.births ? "+b" : "  ", j["cutoff"].get<std::string>().c_str(), j["steps_per_second"].get<double>(),
                   j["particle_steps_per_second"].get<double>(), j["us_per_step"].get<double>(),

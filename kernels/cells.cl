@@ -103,7 +103,7 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
 }
 
 /* For tests: the indices of each particle's neighbours (pairs the step
- * considers: d^2 < max(rc^2, (r_i + r_j)^2)), at most max_out each. */
+ * considers: d^2 < max(rc^2 q2, (r_i + r_j)^2), q2 the pair's scale), at most max_out each. */
 __kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const float* slots,
                               const uint cell_base, const float4 cell_origin, const float4 cell_inv, const int4 cell_dims,
                               const uint n, __global uint* out_count, __global uint* out, const uint max_out) {
@@ -126,7 +126,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
           float4 d = xi - xj;
           d.w = 0.0f;
           const float rs = xi.w + xj.w;
-          if (dot(d, d) < fmax(PF_RC2, rs * rs)) {
+          if (dot(d, d) < fmax(PF_RC2 * PF_PAIR_Q2(rs), rs * rs)) {
             if (found < max_out) out[i * max_out + found] = j;
             ++found;
           }

@@ -69,6 +69,39 @@
 #define PF_FIX_MAX 1.0e6f
 #endif
 
+#ifndef PF_POLY
+#define PF_POLY 0
+#define PF_RS_REF 1.0f
+#define PF_INV_RS_REF2 1.0f
+#define PF_INV_RS_REF 1.0f
+#define PF_REACH_REF 1.0f
+#define PF_SKIN 0.2f
+#endif
+
+/* A pair's scale squared q^2 (physics.cl PF_DEFINE_PAIR_SCALE2) from its
+ * r_i + r_j: with unequal spheres (PF_POLY: EngineConstants::polydisperse)
+ * the rule, exactly 1 for two reference spheres; with equal ones the
+ * constant 1, which the compiler folds away (x * 1 is x), so that equal
+ * spheres run the very code and constants they ran before. */
+#if PF_POLY
+#define PF_PAIR_Q2(rs) pf_pair_scale2(rs, PF_RS_REF, PF_INV_RS_REF2)
+#else
+#define PF_PAIR_Q2(rs) 1.0f
+#endif
+
+/* Whether a candidate at squared distance d2 with r_i + r_j = rs belongs
+ * in a neighbour list: within PF_RL2 (the largest pair's reach plus the
+ * skin) and, with unequal spheres, within its own pair's reach plus the
+ * skin, max(q max(rc, rest), r_i + r_j) + skin (q = rs / (2 radius)), so
+ * that a small sphere's list does not hold every small one in a large
+ * pair's reach. (1 + 1e-5: the rounding of the square, on the safe side.) */
+#if PF_POLY
+#define PF_PAIR_REACH(rs) (fmax((rs) * (PF_INV_RS_REF * PF_REACH_REF), (rs)) + PF_SKIN)
+#define PF_LISTED(d2, rs) ((d2) < PF_RL2 && (d2) < PF_PAIR_REACH(rs) * PF_PAIR_REACH(rs) * 1.00001f)
+#else
+#define PF_LISTED(d2, rs) ((d2) < PF_RL2)
+#endif
+
 /* Bits a step sets for a particle (pf_build_list, the wall). */
 #define PF_FLAGGED_BIT 0x1u
 #define PF_OVERFLOW_BIT 0x2u

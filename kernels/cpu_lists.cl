@@ -6,6 +6,14 @@
  * time as float8 vectors. PF_ROW(list, i) is particle i's row, PF_AT(row,
  * k) its entry k; capacities are multiples of 8 entries. */
 #define PF_ROW(list, i) ((list) + (size_t)(i) * PF_LIST_CAP)
+
+/* physics.cl's pair scale at 8 lanes, and PF_PAIR_Q2's 8-lane form. */
+PF_DEFINE_PAIR_SCALE2(pf_pair_scale2_8, float8)
+#if PF_POLY
+#define PF_PAIR_Q2_8(rs) pf_pair_scale2_8(rs, PF_RS_REF, PF_INV_RS_REF2)
+#else
+#define PF_PAIR_Q2_8(rs) ((float8)(1.0f))
+#endif
 #define PF_AT(row, k) ((row)[k])
 
 /* With PF_NEWTON the rows of each block are packed one after the other
@@ -137,9 +145,17 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
     dz = xi.z - dz;
     const float8 d2 = dx * dx + dy * dy + dz * dz;
     const int8 lane = (int8)(0, 1, 2, 3, 4, 5, 6, 7) + (int8)((int)k);
-    const int8 within = (lane < (int8)((int)count)) & (d2 < PF_RI2);
+    int8 within = (lane < (int8)((int)count)) & (d2 < PF_RI2);
     /* (1 + 1e-5: the rounding of the square, on the safe side) */
+#if PF_POLY
+    /* the pair's own reach: its scaled cutoff or contact distance, plus the inner skin */
+    const float8 q = (rs + xi.w) * PF_INV_RS_REF;
+    const float8 pair_reach = fmax(q * PF_REACH_REF, rs + xi.w) + PF_INNER_SKIN;
+    within &= d2 < pair_reach * pair_reach * 1.00001f;
+    const float8 reach = fmax(rs + xi.w, PF_CONTACT * q) + PF_INNER_SKIN;
+#else
     const float8 reach = fmax(rs + xi.w, PF_CONTACT) + PF_INNER_SKIN;
+#endif
     const int8 near = within & (d2 < reach * reach * 1.00001f);
     const uint8 entries = vload8(0, row + k);
     pf_store_hits8(inner, near_count, entries, near, PF_ENTRY(i));
@@ -179,6 +195,9 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
 #define PF_STENCIL_CAP (PF_STENCIL_CELLS * PF_CELL_CAP + 8u) /* 8 lanes of slack past the last */
 typedef struct {
   float x[PF_STENCIL_CAP], y[PF_STENCIL_CAP], z[PF_STENCIL_CAP];
+#if PF_POLY
+  float r[PF_STENCIL_CAP]; /* radii (unequal spheres: each pair's own reach, PF_LISTED) */
+#endif
   uint e[PF_STENCIL_CAP]; /* as row entries (PF_ENTRY) */
   uint count, own;        /* candidates; the cell's own ones ([0, own)) */
   uint cell;              /* whose stencil (UINT_MAX: none yet) */
@@ -194,22 +213,34 @@ void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const 
     vstore8(vload8(0, chunk), 0, st->x + at + k);
     vstore8(vload8(1, chunk), 0, st->y + at + k);
     vstore8(vload8(2, chunk), 0, st->z + at + k);
+#if PF_POLY
+    vstore8(vload8(3, chunk), 0, st->r + at + k);
+#endif
     vstore8(as_uint8(vload8(4, chunk)) << 4u, 0, st->e + at + k);
   }
   for (uint k = at + 1u; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
     const uint e = st->e[k];
     const float x = st->x[k], y = st->y[k], z = st->z[k];
+#if PF_POLY
+    const float r = st->r[k];
+#endif
     uint q = k;
     for (; q > at && st->e[q - 1u] > e; --q) {
       st->e[q] = st->e[q - 1u];
       st->x[q] = st->x[q - 1u];
       st->y[q] = st->y[q - 1u];
       st->z[q] = st->z[q - 1u];
+#if PF_POLY
+      st->r[q] = st->r[q - 1u];
+#endif
     }
     st->e[q] = e;
     st->x[q] = x;
     st->y[q] = y;
     st->z[q] = z;
+#if PF_POLY
+    st->r[q] = r;
+#endif
   }
   st->count = at + m;
 }
@@ -238,7 +269,8 @@ void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global con
 }
 
 /* Rebuilds particle i's neighbour list from its cell's stencil: the
- * candidates j != i with |x_i - x_j|^2 < PF_RL2 (with PF_NEWTON, of the
+ * candidates j != i with |x_i - x_j|^2 < PF_RL2 (unequal spheres: and
+ * their own pair's reach, PF_LISTED; with PF_NEWTON, of the
  * cell's own particles only those with j > i), in the stencil's order.
  * Returns the count (capped at PF_LIST_CAP; more set the overflow bit in
  * *bits, as does a stencil cell that overflowed). */
@@ -254,7 +286,12 @@ uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global uint* row, 
 #else
     const int8 partner = e != ei;
 #endif
+#if PF_POLY
+    const float8 d2 = dx * dx + dy * dy + dz * dz, rs = xi.w + vload8(0, st->r + k);
+    const int8 near = (lane < (uint8)(st->count)) & partner & PF_LISTED(d2, rs);
+#else
     const int8 near = (lane < (uint8)(st->count)) & partner & (dx * dx + dy * dy + dz * dz < PF_RL2);
+#endif
     /* no branch on whether any lane hit: at rc = 2.5 sigma about half the
      * chunks do, at random, and the mispredictions cost more than a store */
     pf_store_hits8(row, found, e, near, PF_ENTRY(i));

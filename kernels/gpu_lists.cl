@@ -16,7 +16,7 @@
 #define PF_ENTRY(j) (j)
 
 /* Rebuilds particle i's neighbour list from the cells: indices j != i
- * with |x_i - x_j|^2 < PF_RL2. Returns the count (capped at PF_LIST_CAP;
+ * with |x_i - x_j|^2 < PF_RL2 (and, with unequal spheres, their own pair's reach: PF_LISTED). Returns the count (capped at PF_LIST_CAP;
  * more set the overflow bit in *bits). One candidate at a time, in the
  * order the cells hold them, which varies run to run (atomic insertions):
  * this pair loop sums forces in fixed point, where order does not matter. */
@@ -36,7 +36,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           const float dx = xi.x - block[PF_SLOT(k, 0u)], dy = xi.y - block[PF_SLOT(k, 1u)];
           const float dz = xi.z - block[PF_SLOT(k, 2u)];
           const uint j = as_uint(block[PF_SLOT(k, 4u)]);
-          if (j != i && dx * dx + dy * dy + dz * dz < PF_RL2) {
+          if (j != i && PF_LISTED(dx * dx + dy * dy + dz * dz, xi.w + (PF_POLY ? block[PF_SLOT(k, 3u)] : 0.0f))) {
             /* gathered in 4s and stored as one vector (see PF_ROW) */
             const uint slot = found & 3u;
             pending = (uint4)(slot == 0u ? j : pending.x, slot == 1u ? j : pending.y, slot == 2u ? j : pending.z, j);

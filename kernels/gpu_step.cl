@@ -127,22 +127,24 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
         float4 d = xi - xj;
         d.w = 0.0f;
         const float rs = ri + xj.w;
+        const float q2 = PF_PAIR_Q2(rs); /* the pair's scale (1 for equal spheres) */
+        const float rc2 = PF_RC2 * q2;
         float d2 = dot(d, d);
-        const float touch2 = fmax(rs * rs, PF_CONTACT2);
-        if (j == i || !(d2 < fmax(touch2, PF_RC2))) continue;
+        const float touch2 = fmax(rs * rs, PF_CONTACT2 * q2);
+        if (j == i || !(d2 < fmax(touch2, rc2))) continue;
         if (d2 < PF_D_MIN * PF_D_MIN) { /* on top of each other (physics.cl pf_apart) */
           float dx = d.x, dy = d.y, dz = d.z;
           pf_apart(&dx, &dy, &dz, &d2, 1, j > i, PF_D_MIN);
           d = (float4)(dx, dy, dz, 0.0f);
         }
-        float4 f = pf_lj_force_scale(d2, PF_SIGMA2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, PF_RC2,
+        float4 f = pf_lj_force_scale(d2, PF_SIGMA2 * q2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, rc2,
                                      PF_FORCE_CAP) * d;
         if (d2 < touch2) {
           const float4 vj = V[j];
           const float4 nrm = d * rsqrt(d2);
           float4 du = vi - vj;
           du.w = 0.0f;
-          f += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT) * nrm;
+          f += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT, q2) * nrm;
           if (d2 < rs * rs && j > i) ++pairs;
         }
         f = fmin(fmax(f, (float4)(-PF_FIX_MAX)), (float4)(PF_FIX_MAX)); /* so that no sum leaves 63 bits */

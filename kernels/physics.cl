@@ -49,6 +49,22 @@ PF_DEFINE_POW_HALF(pf_pow_half, PF_REAL)
   }
 PF_DEFINE_APART(pf_apart, PF_REAL, int)
 
+/* Unequal spheres (EngineParams::max_radius above radius): every length
+ * of a pair's potential and contact scales with the pair's r_i + r_j
+ * against the reference pair's 2 radius, q = (r_i + r_j) / (2 radius):
+ * sigma_ij = q sigma, rc_ij = q rc, rest_ij = q rest (so the contact
+ * distance max(r_i + r_j, rest_ij)), the contact stiffness k / q^2 and so
+ * the dashpot's 2 zeta sqrt(k_ij) = dashpot / q (the same restitution for
+ * every pair: PF_DEFINE_CONTACT_DAMPING takes q^2). The rule gives
+ * q^2 from rs = r_i + r_j, exactly 1 where rs equals the reference
+ * pair's rs_ref (as the caller rounds it), so that a pair of reference
+ * spheres runs today's constants themselves, bit for bit. */
+#define PF_DEFINE_PAIR_SCALE2(NAME, T)                                                                    \
+  PF_FN T NAME(T rs, PF_REAL rs_ref, PF_REAL inv_rs_ref2) {                                               \
+    return select(rs * rs * inv_rs_ref2, (T)1, rs == rs_ref);                                            \
+  }
+PF_DEFINE_PAIR_SCALE2(pf_pair_scale2, PF_REAL)
+
 /* Lennard-Jones pair of DESIGN.md with exponents a > b, for squared centre
  * distance d2 > 0 and squared cutoff rc2:
  *   u(d) = 4 eps [(sigma/d)^a - (sigma/d)^b] - u(rc)               d < rc
@@ -61,7 +77,7 @@ PF_DEFINE_APART(pf_apart, PF_REAL, int)
  * PF_DEFINE_POW_HALF's rule at the same width. Compares, not fmin / fmax:
  * k is never NaN, and PoCL's fmin handles NaNs. */
 #define PF_DEFINE_LJ_FORCE_SCALE(NAME, T, POW_HALF)                                                        \
-  PF_FN T NAME(T inv_d2, T inv_d, PF_REAL sigma2, PF_REAL eps, PF_REAL a, PF_REAL b, int a_half, int b_half, \
+  PF_FN T NAME(T inv_d2, T inv_d, T sigma2, PF_REAL eps, PF_REAL a, PF_REAL b, int a_half, int b_half, \
                PF_REAL force_cap) {                                                                         \
     const T x = sigma2 * inv_d2;                                                                            \
     const T sb = POW_HALF(x, b, b_half);                                                                    \
@@ -102,10 +118,12 @@ PF_FN PF_REAL pf_lj_energy(PF_REAL d2, PF_REAL sigma2, PF_REAL eps, PF_REAL a, P
  * k the potential's stiffness at the rest distance and zeta the damping
  * ratio giving restitution e for that linearised contact:
  * zeta = -ln e / sqrt(pi^2 + ln^2 e) (0 for e = 1: no dissipation).
+ * q2: the pair's scale squared (PF_DEFINE_PAIR_SCALE2; 1 for equal
+ * spheres), whose stiffness is k / q2, so gamma = dashpot sqrt(m_eff / q2).
  * Returns c. */
 #define PF_DEFINE_CONTACT_DAMPING(NAME, T, INV_SQRT)                                                     \
-  PF_FN T NAME(T un, T inv_mass_i, T inv_mass_j, T dashpot) {                                             \
-    return -dashpot * INV_SQRT(inv_mass_i + inv_mass_j) * un;                                             \
+  PF_FN T NAME(T un, T inv_mass_i, T inv_mass_j, T dashpot, T q2) {                                       \
+    return -dashpot * INV_SQRT((inv_mass_i + inv_mass_j) * q2) * un;                                      \
   }
 /* 1 / sqrt(x) as the scalar forms round it (the CPU form: x86.cl pf_rsqrt8). */
 PF_FN PF_REAL pf_inv_sqrt(PF_REAL x) { return sqrt((PF_REAL)1 / x); }

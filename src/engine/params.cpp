@@ -70,8 +70,18 @@ EngineConstants derive_constants(const EngineParams& p) {
   const double zeta = p.restitution >= 1 ? 0 : -log_e / std::sqrt(M_PI * M_PI + log_e * log_e);
   c.dashpot = 2 * zeta * std::sqrt(k);
   c.max_radius = p.max_radius > 0 ? p.max_radius : p.radius;
+  // Unequal spheres: each pair's lengths scale with (r_i + r_j) / (2 radius)
+  // (physics.cl PF_DEFINE_PAIR_SCALE2), the largest pair's by max_radius /
+  // radius. Automatic: a max_radius within kEqualRadiusTolerance of radius
+  // (what the fill and its finish pass for equal spheres) runs every pair
+  // at scale 1, as equal spheres.
+  c.polydisperse = p.pair_scaling == PairScaling::automatic
+                       ? c.max_radius > p.radius * (1 + kEqualRadiusTolerance)
+                       : p.pair_scaling == PairScaling::on;
+  const double q_max = c.polydisperse ? c.max_radius / p.radius : 1.0;
   c.skin = skin_sigma * c.sigma;
-  c.list_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.skin;
+  // (2 max_radius: a sphere up to max_radius touches at r_i + r_j even below the scaled rest distance)
+  c.list_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.skin;
   c.cell_size = c.list_reach;
   // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
   const double s_min = 0.8 * std::min(2 * p.radius, rest);
@@ -80,11 +90,25 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.cell_capacity = (c.cell_capacity + 7) / 8 * 8;  // whole float8 loads in the list build
   // Lists: spheres of diameter 0.9 * min(2 r, rest) at packing 0.74 within the reach.
   const double s_list = 0.9 * std::min(2 * p.radius, rest);
-  const double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
+  double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
+  if (c.polydisperse) {
+    // Lists hold each pair within its own reach (kernels/common.cl
+    // PF_LISTED): at most the reference spheres within the reference
+    // pair's reach, or those in the shell around a sphere of max_radius out
+    // to its pair's reach with one of `radius` (the largest list: the
+    // reach grows faster than the excluded core), whichever is more.
+    const double r = p.radius, R = c.max_radius, reach_ref = std::max({c.cutoff, 2 * r, rest});
+    const double reach_ss = reach_ref + c.skin;
+    const double reach_bs = std::max((R + r) / (2 * r) * std::max(c.cutoff, rest), R + r) + c.skin;
+    const double core = 0.9 * (R + r);
+    auto count = [&](double volume) { return volume * 0.74 / (M_PI / 6 * std::pow(s_list, 3)); };
+    in_reach = std::max(count(4.0 / 3.0 * M_PI * std::pow(reach_ss, 3)),
+                        count(4.0 / 3.0 * M_PI * (std::pow(reach_bs, 3) - std::pow(core, 3))));
+  }
   c.list_capacity = static_cast<unsigned>(std::ceil(in_reach) + 8);
   c.list_capacity = (c.list_capacity + 7) / 8 * 8;
   c.inner_skin = p.inner_skin_sigma * c.sigma;
-  c.inner_reach = std::max({c.cutoff, 2 * c.max_radius, rest}) + c.inner_skin;
+  c.inner_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.inner_skin;
   c.a_half = even_half(a);
   c.b_half = even_half(b);
   return c;

@@ -107,9 +107,16 @@ void ReferenceEngine::remove_particles(std::vector<size_t> indices) {
   }
 }
 
+double ReferenceEngine::pair_scale2(double rs) const {
+  if (!constants_.polydisperse) return 1;
+  const double rs_ref = 2 * params_.radius;
+  return physics::pf_pair_scale2(rs, rs_ref, 1 / (rs_ref * rs_ref));
+}
+
 StepRecord ReferenceEngine::step() {
   const EngineConstants& c = constants_;
   const double sigma2 = c.sigma * c.sigma, rc2 = c.cutoff * c.cutoff, dmin = 1e-3f * c.sigma;
+  const double contact2 = c.contact_distance * c.contact_distance;
   StepRecord rec;
   rec.step = steps_++;
   rec.particles = static_cast<uint32_t>(particles_.size());
@@ -124,13 +131,15 @@ StepRecord ReferenceEngine::step() {
       Vec3 d = pi.position - pj.position;
       double d2 = dot(d, d);
       const double rs = pi.radius + pj.radius;
-      if (d2 >= std::max(rc2, rs * rs)) continue;
+      const double q2 = pair_scale2(rs);  // the pair's scale (1 for equal spheres)
+      if (d2 >= std::max(rc2 * q2, rs * rs)) continue;
       physics::pf_apart(&d.x, &d.y, &d.z, &d2, d2 < dmin * dmin, j > i, dmin);
-      force += physics::pf_lj_force_scale(d2, sigma2, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
-                                          c.b_half, rc2, c.force_cap) * d;
-      if (d2 < std::max(rs * rs, c.contact_distance * c.contact_distance)) {
+      force += physics::pf_lj_force_scale(d2, sigma2 * q2, params_.eps, params_.exponent_a, params_.exponent_b,
+                                          c.a_half, c.b_half, rc2 * q2, c.force_cap) * d;
+      if (d2 < std::max(rs * rs, contact2 * q2)) {
         const Vec3 n = d / std::sqrt(d2);
-        force += physics::pf_contact_damping(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass, c.dashpot) * n;
+        force +=
+            physics::pf_contact_damping(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass, c.dashpot, q2) * n;
         if (j > i && d2 < rs * rs) ++rec.colliding_pairs;
       }
     }
@@ -167,8 +176,9 @@ double ReferenceEngine::potential_energy() const {
     for (size_t j = i + 1; j < particles_.size(); ++j) {
       const Vec3 d = particles_[i].position - particles_[j].position;
       const double d2 = std::max(dot(d, d), 1e-300);
-      e += physics::pf_lj_energy(d2, c.sigma * c.sigma, params_.eps, params_.exponent_a, params_.exponent_b, c.a_half,
-                                 c.b_half, c.cutoff * c.cutoff);
+      const double q2 = pair_scale2(particles_[i].radius + particles_[j].radius);
+      e += physics::pf_lj_energy(d2, c.sigma * c.sigma * q2, params_.eps, params_.exponent_a, params_.exponent_b,
+                                 c.a_half, c.b_half, c.cutoff * c.cutoff * q2);
     }
   return e;
 }
@@ -181,7 +191,7 @@ std::vector<std::vector<uint32_t>> ReferenceEngine::neighbour_lists() const {
       if (i == j) continue;
       const Vec3 d = particles_[i].position - particles_[j].position;
       const double rs = particles_[i].radius + particles_[j].radius;
-      if (dot(d, d) < std::max(rc2, rs * rs)) out[i].push_back(static_cast<uint32_t>(j));
+      if (dot(d, d) < std::max(rc2 * pair_scale2(rs), rs * rs)) out[i].push_back(static_cast<uint32_t>(j));
     }
   return out;
 }

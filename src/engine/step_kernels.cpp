@@ -88,6 +88,13 @@ std::map<std::string, std::string> shared_defines(const EngineState& s) {
       {"PF_INNER_SKIN", flt(c.inner_skin)},
       {"PF_CONTACT", flt(c.contact_distance)},
       {"PF_HALF_INNER2", flt(0.25 * c.inner_skin * c.inner_skin)},
+      {"PF_POLY", c.polydisperse ? "1" : "0"},
+      // the reference pair's r_i + r_j as the kernels add two float radii, and 1 / its square
+      {"PF_RS_REF", flt(2 * static_cast<double>(static_cast<float>(p.radius)))},
+      {"PF_INV_RS_REF2", flt(1 / (4.0 * p.radius * p.radius))},
+      {"PF_INV_RS_REF", flt(1 / (2.0 * p.radius))},
+      {"PF_REACH_REF", flt(std::max(c.cutoff, c.contact_distance))},
+      {"PF_SKIN", flt(c.skin)},
       {"PF_FIX_SCALE", flt(std::ldexp(1.0, 47) / (c.force_cap * c.list_capacity))},
       {"PF_FIX_MAX", flt(16384 * c.force_cap)},
       {"PF_WG", std::to_string(s.choices.work_group) + "u"},

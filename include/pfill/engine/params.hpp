@@ -21,14 +21,33 @@ enum class Newton { automatic, on, off };
 enum class PairQueue { automatic, on, off };
 /// Whether the `cpu` form prunes inner lists from the lists: see EngineParams::inner_lists.
 enum class InnerLists { automatic, on, off };
+/// Whether each pair's lengths scale with its radii: see EngineParams::pair_scaling.
+enum class PairScaling { automatic, on, off };
 
 struct DeviceInfo;
 
 /// The physics. Lengths are in mesh units; a particle of radius `radius`
 /// has mass 1 (mass scales with volume, (r / radius)^3).
 struct PhysicsParams {
-  double radius = 0.5;             ///< reference particle radius (> 0)
-  double max_radius = 0;           ///< largest radius a particle may have; 0: `radius`
+  /// Reference particle radius (> 0): mass 1, and the pair of two such
+  /// spheres has the potential's sigma, cutoff and rest distance below; a
+  /// pair of radii r_i, r_j has them scaled by (r_i + r_j) / (2 radius)
+  /// (when max_radius exceeds it: polydisperse). The time step and the list
+  /// capacities are set for this radius: with unequal spheres make it the
+  /// smallest.
+  double radius = 0.5;
+  /// Largest radius a particle may have; 0: `radius`. With pair_scaling
+  /// the cells and lists reach the largest pair's scaled cutoff.
+  double max_radius = 0;
+  /// Unequal spheres: `on` scales each pair's sigma, cutoff, rest distance
+  /// and dashpot by q = (r_i + r_j) / (2 radius) (physics.cl
+  /// PF_DEFINE_PAIR_SCALE2: exactly 1 for two spheres of `radius`), so
+  /// every pair has the same potential in its own units and the same
+  /// restitution; `off` runs every pair at q = 1 (one sigma; contacts still
+  /// at r_i + r_j), as equal spheres always did. `automatic`: on when
+  /// max_radius exceeds radius by more than kEqualRadiusTolerance (the
+  /// fill's equal spheres pass a max_radius a little above their radius).
+  PairScaling pair_scaling = PairScaling::automatic;
   double rest_distance = 0;        ///< centre distance at the potential's minimum; 0: 2 * radius (touching)
   double eps = 1;                  ///< depth of the potential well (> 0)
   double exponent_a = 12;          ///< repulsive exponent a (> b)
@@ -155,14 +174,25 @@ struct EngineConstants {
   double dashpot = 0;        ///< 2 zeta sqrt(k): contact damping (physics.cl pf_contact_damping)
   double cell_size = 0;      ///< cell edge: the list reach
   double max_radius = 0;
+  /// EngineParams::pair_scaling resolved: each pair's sigma, cutoff, rest
+  /// distance and dashpot scale with (r_i + r_j) / (2 radius) (physics.cl
+  /// PF_DEFINE_PAIR_SCALE2); otherwise every pair runs at scale 1 (equal
+  /// spheres, as before).
+  bool polydisperse = false;
   unsigned cell_capacity = 0;  ///< particles a cell can list (more are dropped and counted as overflow)
   double skin = 0;             ///< neighbour-list skin
-  double list_reach = 0;       ///< max(cutoff, 2 max_radius, rest distance) + skin
+  double list_reach = 0;       ///< max(q cutoff, 2 max_radius, q rest distance) + skin, q = max_radius / radius when polydisperse, else 1
   unsigned list_capacity = 0;  ///< neighbours a list can hold (more are dropped and counted as overflow)
   double inner_skin = 0;       ///< inner-list skin (EngineParams::inner_lists)
-  double inner_reach = 0;      ///< max(cutoff, 2 max_radius, rest distance) + inner_skin (inner lists hold list_capacity)
+  double inner_reach = 0;      ///< max(q cutoff, 2 max_radius, q rest distance) + inner_skin (inner lists hold list_capacity)
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
+
+/// With PairScaling::automatic, max_radius up to radius (1 + this) is
+/// equal spheres (EngineConstants::polydisperse): the finish passes radius
+/// (1 + 1e-6) / (1 - max_overlap / 2), and a spread this small changes
+/// the pairs' lengths by at most half of it.
+constexpr double kEqualRadiusTolerance = 0.1;
 
 /// Steps of the wall's push back inside along the field's gradient
 /// (physics.cl pf_wall_push; PF_WALL_ITERATIONS in the kernels).

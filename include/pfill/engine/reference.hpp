@@ -23,6 +23,8 @@ class ReferenceEngine final : public ParticleEngine {
   void remove_particles(std::vector<size_t> indices) override;
   /// One step; returns its record.
   StepRecord step();
+  /// A pair's scale squared from its r_i + r_j (physics.cl PF_DEFINE_PAIR_SCALE2; 1 for equal spheres).
+  double pair_scale2(double rs) const;
 
   // ParticleEngine: steps one after the other, their records kept until read.
   const EngineParams& params() const override { return params_; }
