@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "pfill/contacts.hpp"
 #include "pfill/particles.hpp"
 
 namespace pfill {
@@ -46,6 +47,11 @@ struct ParticleWriteOptions {
   /// 5% of its largest side (at least the largest radius) on every side.
   Box3 box;
   double density = 1.0;     ///< LAMMPS data: every particle's density (mass / volume)
+  /// The contact network of these particles (contacts.hpp), or none. With
+  /// one, every format carries each particle's `coordination`, and PLY adds
+  /// `element edge` (int vertex1 vertex2, float gap), VTP a line cell per
+  /// pair, LAMMPS data `Bonds` (atom_style hybrid sphere bond).
+  const ContactNetwork* contacts = nullptr;
 };
 
 /// Writes `particles` in the format named by the extension of `path`.

@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "cli/commands.hpp"
+#include "cli/contact_options.hpp"
 #include "cli/format.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
@@ -48,6 +49,7 @@ struct FillArgs {
   bool json = false;                  // the summary as JSON on stdout
   std::string attribute_names = "pfill";
   double density = 1.0;               // LAMMPS .data
+  ContactArgs contacts;               // --contacts, --contact-gap, --pairs
   FillOptions options;
 };
 
@@ -127,7 +129,8 @@ void run_fill(FillArgs& a) {
   const bool from_file = !a.mesh.empty();
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
-  refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}},
+  refuse_clashing_paths({{"the mesh", a.mesh}},
+                        {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}, {"--pairs", a.contacts.pairs}},
                         {"--frames", a.frames});
   const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
   check_output_folder(a.output, "the output");
@@ -178,14 +181,23 @@ void run_fill(FillArgs& a) {
   printer.end_line();
   for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
 
+  ContactResult contacts;  // after the fill, from its final particles
+  if (a.contacts.wanted()) {
+    const Boundary boundary(mesh);
+    contacts = find_and_write_contacts(a.contacts, r.particles, &boundary);
+    wo.contacts = contacts.network.get();
+  }
   write_particles(r.particles, a.output, wo);
+  wo.contacts = nullptr;
   if (frames) frames->write(r.particles);
   if (!a.preview.empty()) {
     RenderOptions ro;
     ro.cut = parse_cut("z");
     write_png(render(r.particles, &mesh, ro), a.preview);
   }
-  const std::string report = fill_report_json(r, mesh.source, a.options.seed, a.output).dump(2) + "\n";
+  nlohmann::ordered_json report_json = fill_report_json(r, mesh.source, a.options.seed, a.output);
+  if (contacts.network) report_json["contacts"] = contacts.report;
+  const std::string report = report_json.dump(2) + "\n";
   if (!a.report.empty() && a.report != "-")
     write_file_atomically(a.report, [&](AtomicFile& f) { f.write(report); });
   if (a.json || a.report == "-") {  // the JSON alone on stdout, for scripts
@@ -196,6 +208,7 @@ void run_fill(FillArgs& a) {
   std::printf("%s -> %s  (radius %s, %s)\n", mesh.source.c_str(), a.output.c_str(), num(r.radius).c_str(),
               r.device.c_str());
   print_metrics(stdout, r.metrics);
+  if (contacts.network) print_contacts_line(stdout, *contacts.network, true);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
   std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
@@ -321,6 +334,7 @@ CLI::App* add_fill_command(CLI::App& app) {
                                            "units of your LAMMPS run)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
+  add_contact_options(cmd, a->contacts, true);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
   cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)");
   cmd->callback([a, cmd]() {

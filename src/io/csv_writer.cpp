@@ -20,7 +20,9 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
   std::string header = houdini ? "x,y,z,pscale" : "x,y,z,radius";
   if (colours) header += houdini ? ",Cd.r,Cd.g,Cd.b" : ",r,g,b";
   if (velocities) header += houdini ? ",v.x,v.y,v.z" : ",vx,vy,vz";
-  header += ",id\n";
+  header += ",id";
+  if (options.contacts) validate(*options.contacts, particles.size(), path.string());
+  header += options.contacts ? ",coordination\n" : "\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
@@ -51,6 +53,7 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
       }
       chunk += ',';
       chunk += std::to_string(particles.id(i));
+      if (options.contacts) chunk += ',' + std::to_string(options.contacts->coordination[i]);
       chunk += '\n';
     });
   });

@@ -1,5 +1,6 @@
 // Binary little-endian PLY writer: the particle format that Blender, MeshLab,
 // CloudCompare, ParaView and Houdini all open.
+#include <algorithm>
 #include <string>
 
 #include "io/byte_order.hpp"
@@ -27,7 +28,14 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
   if (velocities)
     header += houdini ? "property float v.x\nproperty float v.y\nproperty float v.z\n"
                       : "property float vx\nproperty float vy\nproperty float vz\n";
-  header += "property uint id\nend_header\n";
+  header += "property uint id\n";
+  const ContactNetwork* contacts = options.contacts;
+  if (contacts) {
+    validate(*contacts, particles.size(), path.string());
+    header += "property ushort coordination\nelement edge " + std::to_string(contacts->pairs.size()) +
+              "\nproperty int vertex1\nproperty int vertex2\nproperty float gap\n";
+  }
+  header += "end_header\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
@@ -49,7 +57,19 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
         byte_order::append_f32_le(chunk, static_cast<float>(v.z));
       }
       byte_order::append_u32_le(chunk, static_cast<uint32_t>(particles.id(i)));
+      if (contacts) {  // ushort, little-endian
+        const uint32_t z = std::min<uint32_t>(contacts->coordination[i], 65535);
+        chunk += static_cast<char>(z & 0xFF);
+        chunk += static_cast<char>(z >> 8);
+      }
     });
+    if (contacts)  // the pairs as edges between the vertices (file order, from 0)
+      write_records(file, contacts->pairs.size(), 1 << 14, [&](std::string& chunk, size_t k) {
+        const PairContact& c = contacts->pairs[k];
+        byte_order::append_u32_le(chunk, c.a);
+        byte_order::append_u32_le(chunk, c.b);
+        byte_order::append_f32_le(chunk, static_cast<float>(c.gap));
+      });
   });
 }
 

@@ -1,0 +1,39 @@
+// The contact options `pfill fill` and `pfill contacts` share
+// (--contacts, --gap, --pairs), and what they do after a fill: find the
+// network in the final particles, add it to the output and the report.
+#pragma once
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "pfill/boundary.hpp"
+#include "pfill/contact_network.hpp"
+#include "pfill/particle_io.hpp"
+
+namespace pfill::cli {
+
+struct ContactArgs {
+  bool contacts = false;            ///< find the contact network (fill: --contacts)
+  double gap = kDefaultContactGap;  ///< largest gap, fraction of the smaller radius
+  std::string pairs;                ///< CSV of the contacts; implies contacts
+  bool wanted() const { return contacts || !pairs.empty(); }
+};
+
+/// Adds --contacts (when `with_flag`), --contact-gap and --pairs to `cmd`.
+void add_contact_options(CLI::App* cmd, ContactArgs& args, bool with_flag);
+
+/// The network of `particles` (wall contacts too when a boundary is given),
+/// its --pairs CSV written, and its report section.
+struct ContactResult {
+  std::unique_ptr<ContactNetwork> network;
+  nlohmann::ordered_json report;
+};
+ContactResult find_and_write_contacts(const ContactArgs& args, const ParticleSet& particles,
+                                      const Boundary* boundary);
+
+/// One summary line: "contacts  M pairs (gap <= 2% of the smaller radius), mean coordination X, W at the wall".
+void print_contacts_line(std::FILE* out, const ContactNetwork& network, bool with_wall);
+
+}  // namespace pfill::cli
