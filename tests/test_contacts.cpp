@@ -118,7 +118,7 @@ TEST_CASE("contacts: spheres touching the wall, with the surface point and its o
   CHECK(j["coordination_by_depth"].size() >= 1);
 }
 
-TEST_CASE("contacts: every format carries them; the CSV lists pairs and wall contacts") {
+TEST_CASE("contacts: every format carries them, the CSV lists pairs and wall contacts") {
   ScratchDir dir("contacts");
   ParticleSet p = near_touching(4, 0.1, 0.0, 7);
   for (size_t i = 0; i < p.size(); ++i) p.ids.push_back(100 + i);

@@ -17,9 +17,10 @@ from ._pfill import (  # noqa: F401
     __version__,
     builtin_shapes,
     check,
+    contacts,
     devices,
     fill,
     load_mesh,
 )
 
-__all__ = ["fill", "check", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]
+__all__ = ["fill", "check", "contacts", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]
