@@ -154,6 +154,9 @@ TEST_CASE("contacts: every format carries them, the CSV lists pairs and wall con
   write_particles(p, dir / "c.xyzr", wo);
   CHECK(read_text(dir / "c.xyzr").find("# x y z r id coordination\n") != std::string::npos);
 
+  write_particles(p, dir / "c.glb", wo);
+  CHECK(read_text(dir / "c.glb").find("\"_COORDINATION\"") != std::string::npos);
+
   write_contacts_csv(p, net, dir / "pairs.csv");
   const std::string csv = read_text(dir / "pairs.csv");
   CHECK(static_cast<size_t>(std::count(csv.begin(), csv.end(), '\n')) == net.pairs.size() + 1);

@@ -182,6 +182,11 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
     points.attributes["_RADIUS"] = builder.add_floats(radii, 1, kArrayBuffer, false);
     points.attributes["_ID"] = builder.add_floats(ids, 1, kArrayBuffer, false);
     if (!velocities.empty()) points.attributes["_VELOCITY"] = builder.add_floats(velocities, 3, kArrayBuffer, false);
+    if (options.contacts) {  // each particle's contact count (contacts.hpp), as _COORDINATION
+      validate(*options.contacts, particles.size(), path.string());
+      const std::vector<float> coordination(options.contacts->coordination.begin(), options.contacts->coordination.end());
+      points.attributes["_COORDINATION"] = builder.add_floats(coordination, 1, kArrayBuffer, false);
+    }
     tinygltf::Mesh mesh;
     mesh.name = "particles";
     mesh.primitives.push_back(points);
