@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "pfill/contacts.hpp"
+#include "pfill/particle_attributes.hpp"
 #include "pfill/particles.hpp"
 
 namespace pfill {
@@ -52,6 +53,11 @@ struct ParticleWriteOptions {
   /// `element edge` (int vertex1 vertex2, float gap), VTP a line cell per
   /// pair, LAMMPS data `Bonds` (atom_style hybrid sphere bond).
   const ContactNetwork* contacts = nullptr;
+  /// Boundary particles' attributes (particle_attributes.hpp), or none: each
+  /// present vector is written, as `kind` (uchar), nx ny nz and `area` (PLY,
+  /// CSV; VTP kind, normal, area; GLB _KIND, _NORMAL, _AREA; xyzr columns),
+  /// and LAMMPS data gives each kind its atom type (1 inner, 2 boundary).
+  const ParticleAttributes* attributes = nullptr;
 };
 
 /// Writes `particles` in the format named by the extension of `path`.

@@ -31,4 +31,7 @@ void add_render_command(CLI::App& app);
 /// `pfill contacts PARTICLES [MESH] [--gap G] -o OUT [--pairs PAIRS.csv]`
 void add_contacts_command(CLI::App& app);
 
+/// `pfill surface MESH (-r R | -n N) -o shell.ply`
+void add_surface_command(CLI::App& app);
+
 }  // namespace pfill::cli

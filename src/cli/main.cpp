@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   pfill::cli::add_render_command(app);
   pfill::cli::add_devices_command(app);
   pfill::cli::add_contacts_command(app);
+  pfill::cli::add_surface_command(app);
 
   std::vector<const char*> args(argv, argv + argc);
   if (argc == 1) args.push_back("fill");  // the main job on a built-in shape

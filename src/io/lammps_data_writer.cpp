@@ -44,13 +44,16 @@ void write_lammps_data(const ParticleSet& particles, const std::filesystem::path
   // With contacts: atom_style hybrid sphere bond (Atoms `id type x y z
   // diameter density molecule`), one bond per contact pair, one bond type.
   const ContactNetwork* bonds = options.contacts;
+  // With kinds (fill --shell): atom type 1 inner, 2 boundary.
+  const bool kinds = options.attributes && options.attributes->has_kinds();
+  if (options.attributes) validate(*options.attributes, particles.size(), path.string());
   if (bonds) validate(*bonds, particles.size(), path.string());
   std::string head = "pfill particles: " + std::to_string(particles.size()) +
                      (bonds ? " spheres, " + std::to_string(bonds->pairs.size()) +
                                   " contacts as bonds (LAMMPS data file, atom_style hybrid sphere bond: id type x y z "
                                   "diameter density molecule)\n\n"
                             : std::string(" spheres (LAMMPS data file, atom_style sphere: id type diameter density x y z)\n\n")) +
-                     std::to_string(particles.size()) + " atoms\n1 atom types\n";
+                     std::to_string(particles.size()) + " atoms\n" + (kinds ? "2" : "1") + " atom types\n";
   if (bonds) head += std::to_string(bonds->pairs.size()) + " bonds\n1 bond types\n";
   head += "\n";
   const char* axes[3][2] = {{"xlo", "xhi"}, {"ylo", "yhi"}, {"zlo", "zhi"}};
@@ -66,7 +69,7 @@ void write_lammps_data(const ParticleSet& particles, const std::filesystem::path
     file.write(head);
     write_records(file, particles.size(), 1 << 13, [&](std::string& chunk, size_t i) {
       chunk += std::to_string(particles.id(i));
-      chunk += " 1";
+      chunk += kinds ? (options.attributes->kinds[i] ? " 2" : " 1") : " 1";
       if (bonds)  // hybrid: x y z first, then the sub-styles' columns
         for (int k = 0; k < 3; ++k) {
           chunk += ' ';

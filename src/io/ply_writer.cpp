@@ -29,6 +29,13 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
     header += houdini ? "property float v.x\nproperty float v.y\nproperty float v.z\n"
                       : "property float vx\nproperty float vy\nproperty float vz\n";
   header += "property uint id\n";
+  const ParticleAttributes* attributes = options.attributes;
+  if (attributes) {
+    validate(*attributes, particles.size(), path.string());
+    if (attributes->has_kinds()) header += "property uchar kind\n";
+    if (attributes->has_normals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    if (attributes->has_areas()) header += "property float area\n";
+  }
   const ContactNetwork* contacts = options.contacts;
   if (contacts) {
     validate(*contacts, particles.size(), path.string());
@@ -57,6 +64,12 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
         byte_order::append_f32_le(chunk, static_cast<float>(v.z));
       }
       byte_order::append_u32_le(chunk, static_cast<uint32_t>(particles.id(i)));
+      if (attributes) {
+        if (attributes->has_kinds()) chunk += static_cast<char>(attributes->kinds[i]);
+        if (attributes->has_normals())
+          for (int k = 0; k < 3; ++k) byte_order::append_f32_le(chunk, static_cast<float>(attributes->normals[i][k]));
+        if (attributes->has_areas()) byte_order::append_f32_le(chunk, static_cast<float>(attributes->areas[i]));
+      }
       if (contacts) {  // ushort, little-endian
         const uint32_t z = std::min<uint32_t>(contacts->coordination[i], 65535);
         chunk += static_cast<char>(z & 0xFF);

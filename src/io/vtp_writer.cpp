@@ -100,6 +100,14 @@ void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
       return static_cast<int64_t>(contacts->coordination[k]);
     }));
   }
+  if (const ParticleAttributes* a = options.attributes) {
+    validate(*a, n, path.string());
+    if (a->has_kinds())
+      point_data.push_back(int64_array("kind", n, [a](size_t k) { return static_cast<int64_t>(a->kinds[k]); }));
+    if (a->has_normals())
+      point_data.push_back(float64_array("normal", 3, n, [a](size_t k) { return a->normals[k / 3][static_cast<int>(k % 3)]; }));
+    if (a->has_areas()) point_data.push_back(float64_array("area", 1, n, [a](size_t k) { return a->areas[k]; }));
+  }
   const size_t lines = contacts ? contacts->pairs.size() : 0;  // one line cell per contact pair
   const VtpArray line_connectivity = int64_array("connectivity", 2 * lines, [contacts](size_t k) {
     const PairContact& c = contacts->pairs[k / 2];
