@@ -10,6 +10,7 @@
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/shapes.hpp"
+#include "pfill/shell_fill.hpp"
 #include "pfill/surface_sampling.hpp"
 
 using namespace pfill;
@@ -78,4 +79,33 @@ TEST_CASE("shell figures: a square grid on a cube's face") {
   CHECK(st.share_within_15 == doctest::Approx(1));
   // The other faces are far from every particle: the bottom face's centre is 2 from the top.
   CHECK(st.coverage == doctest::Approx(2).epsilon(0.01));
+}
+
+TEST_CASE("fill --shell: the inset mesh and the join keep the inner spheres clear of the shell") {
+  const Mesh cube = make_cube(1.0, 2);
+  const Mesh in = inset_mesh(cube, 0.1, false);
+  CHECK(in.bounds().lo.x == doctest::Approx(-0.9));
+  CHECK(in.bounds().hi.z == doctest::Approx(0.9));
+  CHECK(diagnose(in).volume() == doctest::Approx(1.8 * 1.8 * 1.8));
+  const Mesh sphere = make_icosphere(1.0, 3);
+  const double r_in = length(inset_mesh(sphere, 0.1, false).positions[0]);
+  CHECK(r_in == doctest::Approx(0.9).epsilon(0.01));
+
+  SurfaceSamples shell;
+  shell.radius = 0.1;
+  shell.positions = {{1, 0, 0}, {0, 1, 0}};
+  shell.normals = {{1, 0, 0}, {0, 1, 0}};
+  shell.areas = {0.5, 0.5};
+  ParticleSet inner;
+  inner.positions = {{0.8, 0, 0}, {0, 0.7, 0}, {0, 0, 0}};  // touching, clear, far
+  inner.radii = {0.1, 0.1, 0.1};
+  inner.positions[0].x = 0.81;  // overlapping the first shell particle by 10% r
+  const ShellFill j = join_shell(inner, shell, 0.001);
+  CHECK(j.removed == 1);
+  CHECK(j.inner == 2);
+  REQUIRE(j.particles.size() == 4);
+  CHECK(j.attributes.kinds == std::vector<uint8_t>{0, 0, 1, 1});
+  CHECK(j.particles.ids == std::vector<uint64_t>{2, 3, 4, 5});
+  CHECK(j.attributes.areas[2] == 0.5);
+  CHECK(j.attributes.normals[0].x == 0);
 }

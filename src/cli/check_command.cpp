@@ -1,10 +1,12 @@
 // `pfill check PARTICLES MESH`: the metrics of a fill for any particle file,
 // so pfill's output can be compared with other tools'.
 #include <iostream>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
+#include "cli/shell_report.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
@@ -19,6 +21,7 @@ void add_check_command(CLI::App& app) {
     double radius = 0;
     double tolerance = 0.01;
     bool json = false;
+    bool shell = false;  // also the figures of the boundary particles (those on the surface)
     // Thresholds (negative: not checked); a miss exits with kExitThresholdMissed.
     double min_inside = -1, max_overlap = -1, min_packing = -1;
   };
@@ -30,6 +33,9 @@ void add_check_command(CLI::App& app) {
   cmd->add_option("--tolerance", a->tolerance, "Allowed crossing of the surface, as a fraction of r")
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Write the metrics as JSON on standard output");
+  cmd->add_flag("--shell", a->shell,
+                "Also the figures of the boundary particles (`pfill surface`, `fill --shell`: those whose centre "
+                "lies within half their radius of the surface): nearest-neighbour spacing and coverage");
   cmd->add_option("--min-inside", a->min_inside,
                   "Exit with status 3 unless at least this share of the spheres (0..1) lies inside")
       ->check(CLI::Range(0.0, 1.0));
@@ -48,6 +54,8 @@ void add_check_command(CLI::App& app) {
     MetricsOptions mo;
     mo.containment_tolerance = a->tolerance;
     const PackingMetrics m = measure_packing(boundary, diagnose(mesh).volume(), particles, mo);
+    std::optional<ShellStats> shell;
+    if (a->shell) shell = measure_shell_of(boundary, particles);
     std::vector<std::string> misses;
     if (a->min_inside >= 0 && m.contained_share < a->min_inside)
       misses.push_back(num(100 * m.contained_share, 4) + "% of the spheres lie inside, below --min-inside " +
@@ -61,12 +69,14 @@ void add_check_command(CLI::App& app) {
     if (a->json) {
       nlohmann::ordered_json j{{"particles_file", a->particles}, {"mesh", mesh.source}};
       j["metrics"] = metrics_json(m);
+      if (shell) j["shell"] = shell_json(*shell);
       j["passed"] = misses.empty();
       j["failures"] = misses;
       std::cout << j.dump(2) << "\n";
     } else {
       std::printf("%s in %s\n", a->particles.c_str(), mesh.source.c_str());
       print_metrics(stdout, m);
+      if (shell) print_shell(stdout, *shell);
     }
     std::fflush(stdout);
     for (const std::string& miss : misses) std::fprintf(stderr, "pfill check: FAILED: %s\n", miss.c_str());

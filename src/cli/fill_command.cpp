@@ -10,6 +10,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/contact_options.hpp"
+#include "cli/shell_run.hpp"
 #include "cli/format.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
@@ -50,6 +51,7 @@ struct FillArgs {
   std::string attribute_names = "pfill";
   double density = 1.0;               // LAMMPS .data
   ContactArgs contacts;               // --contacts, --contact-gap, --pairs
+  ShellArgs shell;                    // --shell, --shell-radius
   FillOptions options;
 };
 
@@ -154,6 +156,8 @@ void run_fill(FillArgs& a) {
   }
   if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
   if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+  std::unique_ptr<ShellRun> shell;  // --shell: the fill in the mesh moved in by the shell's radius
+  if (a.shell.shell) shell = std::make_unique<ShellRun>(a.shell, mesh, a.options);
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
@@ -171,7 +175,7 @@ void run_fill(FillArgs& a) {
   defer_interrupts_to(&interrupted);
   FillResult r;
   try {
-    r = fill(mesh, a.options);
+    r = fill(shell ? shell->fill_mesh() : mesh, a.options);
   } catch (const Cancelled&) {
     defer_interrupts_to(nullptr);
     std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
@@ -181,6 +185,10 @@ void run_fill(FillArgs& a) {
   printer.end_line();
   for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
 
+  if (shell) {
+    shell->join(r);  // r.particles: the inner spheres, then the shell's
+    wo.attributes = &shell->attributes();
+  }
   ContactResult contacts;  // after the fill, from its final particles
   if (a.contacts.wanted()) {
     const Boundary boundary(mesh);
@@ -197,6 +205,7 @@ void run_fill(FillArgs& a) {
   }
   nlohmann::ordered_json report_json = fill_report_json(r, mesh.source, a.options.seed, a.output);
   if (contacts.network) report_json["contacts"] = contacts.report;
+  if (shell) report_json["shell"] = shell->report();
   const std::string report = report_json.dump(2) + "\n";
   if (!a.report.empty() && a.report != "-")
     write_file_atomically(a.report, [&](AtomicFile& f) { f.write(report); });
@@ -209,6 +218,7 @@ void run_fill(FillArgs& a) {
               r.device.c_str());
   print_metrics(stdout, r.metrics);
   if (contacts.network) print_contacts_line(stdout, *contacts.network, true);
+  if (shell) shell->print(stdout);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
   std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
@@ -335,6 +345,7 @@ CLI::App* add_fill_command(CLI::App& app) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   add_contact_options(cmd, a->contacts, true);
+  add_shell_options(cmd, a->shell);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
   cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)");
   cmd->callback([a, cmd]() {

@@ -47,6 +47,18 @@ void print_shell(std::FILE* out, const ShellStats& s) {
                s.coverage_over_r, thousands(s.surface_points).c_str());
 }
 
+ShellStats measure_shell_of(const Boundary& boundary, const ParticleSet& particles) {
+  std::vector<Vec3> on_surface;
+  double radius = 0;
+  for (size_t i = 0; i < particles.size(); ++i)
+    if (boundary.closest(particles.positions[i]).distance <= 0.5 * particles.radii[i]) {
+      on_surface.push_back(particles.positions[i]);
+      radius += particles.radii[i];
+    }
+  if (on_surface.empty()) throw Error("--shell: no particle lies on the surface (within half its radius)");
+  return measure_shell(boundary, on_surface, radius / on_surface.size());
+}
+
 double surface_radius_for_count(const Mesh& mesh, size_t count) {
   return pfill::surface_radius_for_count(diagnose(mesh).surface_area, count);
 }
