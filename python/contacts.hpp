@@ -15,4 +15,7 @@ py::tuple contact_pairs(const py::object& positions, const py::object& radii, do
 /// Adds pfill.contacts() to the module.
 void add_contacts_bindings(py::module_& m);
 
+/// Adds pfill.surface() (python/surface.cpp).
+void add_surface_bindings(py::module_& m);
+
 }  // namespace pfill::python

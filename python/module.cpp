@@ -275,5 +275,6 @@ PYBIND11_MODULE(_pfill, m) {
         "The OpenCL devices, as dicts (index, name, platform, type, version, compute_units, global_memory, "
         "default); choose one with fill(..., device=index or name) or PFILL_DEVICE.");
   add_contacts_bindings(m);
+  add_surface_bindings(m);
   m.def("builtin_shapes", &builtin_shape_names, "Names of the built-in shapes fill() and load_mesh() accept.");
 }

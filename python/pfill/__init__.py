@@ -21,6 +21,7 @@ from ._pfill import (  # noqa: F401
     devices,
     fill,
     load_mesh,
+    surface,
 )
 
-__all__ = ["fill", "check", "contacts", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]
+__all__ = ["fill", "check", "contacts", "surface", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]

@@ -65,3 +65,34 @@ def test_the_command_line_writes_the_same_pairs(tmp_path):
     assert cli_pairs == set(map(tuple, r.contacts.tolist()))
     particles = np.loadtxt(tmp_path / "c.csv", delimiter=",", skiprows=1)
     assert particles[:, -1].sum() == 2 * len(r.contacts)  # the coordination column
+
+
+def test_surface_particles_are_even_and_cover_the_surface():
+    s = pfill.surface("sphere", count=500)
+    n = len(s["positions"])
+    assert 480 <= n <= 520
+    assert s["normals"].shape == (n, 3) and s["areas"].shape == (n,)
+    assert s["areas"].sum() == pytest.approx(s["surface_area"])
+    assert np.allclose(np.linalg.norm(s["normals"], axis=1), 1)
+    assert (np.einsum("ij,ij->i", s["normals"], s["positions"]) > 0).all()  # out of the sphere
+    shell = s["shell"]
+    assert shell["share_within_15_percent"] >= 0.95
+    assert shell["closer_than_0.8_spacing"] == 0
+    assert shell["coverage_over_r"] <= 1.5
+    with pytest.raises(pfill.Error, match="radius"):
+        pfill.surface("sphere")
+
+
+def test_fill_shell_output_reads_back_with_the_kinds_apart(tmp_path):
+    subprocess.run([CLI, "fill", "cube", "-n", "150", "-q", "--shell", "-o", str(tmp_path / "f.csv")], check=True,
+                   stdout=subprocess.DEVNULL)
+    table = np.genfromtxt(tmp_path / "f.csv", delimiter=",", names=True)
+    inner, shell = table[table["kind"] == 0], table[table["kind"] == 1]
+    assert len(inner) > 50 and len(shell) > 50
+    assert (inner["area"] == 0).all() and (shell["area"] > 0).all()
+    # Inner spheres clear of every shell particle (to the 0.1% bound) and inside the cube.
+    p_in = np.c_[inner["x"], inner["y"], inner["z"]]
+    p_sh = np.c_[shell["x"], shell["y"], shell["z"]]
+    d = np.sqrt(((p_in[:, None] - p_sh[None]) ** 2).sum(-1))
+    assert (d >= (inner["radius"][:, None] + shell["radius"][None]) - 0.001 * inner["radius"][:, None] - 1e-9).all()
+    assert (np.abs(p_in).max(axis=1) + inner["radius"] <= 1 + 1e-9).all()
