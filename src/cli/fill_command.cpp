@@ -183,12 +183,12 @@ void run_fill(FillArgs& a) {
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
-  for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
-
   if (shell) {
     shell->join(r);  // r.particles: the inner spheres, then the shell's
     wo.attributes = &shell->attributes();
   }
+  for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
+
   ContactResult contacts;  // after the fill, from its final particles
   if (a.contacts.wanted()) {
     const Boundary boundary(mesh);

@@ -42,6 +42,8 @@ void ShellRun::join(FillResult& r) {
   stats_ = measure_shell(boundary_, shell.positions, shell_radius_);
   joined_ = join_shell(r.particles, shell, max_overlap_);
   r.particles = joined_.particles;
+  // The fill's warnings are about the mesh it filled: the one moved in.
+  for (std::string& w : r.warnings) w = "--shell (the inner fill ran in the mesh moved in by the shell's radius): " + w;
 }
 
 nlohmann::ordered_json ShellRun::report() const {
