@@ -84,11 +84,7 @@ def build(path, threshold=2.0, drop=1.0, ground=True, density=1000.0, name=None)
         raise pfill_import.PfillFileError(f"{path}: an edge names a vertex past the {n} particles")
     scene = bpy.context.scene
     if scene.rigidbody_world is None:
-        with bpy.context.temp_override(scene=scene):
-            bpy.ops.rigidbody.world_add()
-    world = scene.rigidbody_world
-    if world.collection is None:
-        world.collection = bpy.data.collections.new("RigidBodyWorld")
+        bpy.ops.rigidbody.world_add()
     name = name or os.path.splitext(os.path.basename(path))[0]
     coll = bpy.data.collections.new(name + " shatter")
     scene.collection.children.link(coll)
@@ -116,20 +112,32 @@ def build(path, threshold=2.0, drop=1.0, ground=True, density=1000.0, name=None)
         o.rigid_body.mass = float(m)
     impulse = threshold * float(masses.mean())
 
+    # The bonds: empties in a collection that becomes (or joins) the rigid-body
+    # world's constraints collection, which gives each a FIXED constraint in
+    # one go (an operator call per bond crashed Blender 3.4 after ~1,200).
+    bonds_coll = bpy.data.collections.new(name + " bonds")
+    coll.children.link(bonds_coll)
     bonds = []
     for k, (a, b) in enumerate(pairs):
         e = bpy.data.objects.new(f"{name} bond {k}", None)
         e.location = (positions[a] + positions[b]) / 2
         e.empty_display_size = float(p["radii"][a]) * 0.5
-        coll.objects.link(e)
-        with bpy.context.temp_override(object=e, active_object=e, selected_objects=[e], selected_editable_objects=[e]):
-            bpy.ops.rigidbody.constraint_add(type="FIXED")
+        bonds_coll.objects.link(e)
+        bonds.append(e)
+    world = scene.rigidbody_world
+    if world.constraints is None:
+        world.constraints = bonds_coll
+    else:  # another fill's bonds are there: add these to its collection
+        for e in bonds:
+            world.constraints.objects.link(e)
+        world.constraints = world.constraints
+    for e, (a, b) in zip(bonds, pairs):
         c = e.rigid_body_constraint
+        c.type = "FIXED"
         c.object1, c.object2 = spheres[a], spheres[b]
         c.use_breaking = True
         c.breaking_threshold = impulse
         c.disable_collisions = True
-        bonds.append(e)
 
     if ground:
         size = float(np.ptp(positions, axis=0).max()) * 4 + 1
