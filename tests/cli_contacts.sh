@@ -25,6 +25,16 @@ grep -q "<Lines>" c.vtp || fail "VTP: no lines"
 "$pfill" contacts c.ply --gap 0.2 -o wide.data > /dev/null || fail "contacts --gap 0.2"
 grep -q "Atoms # hybrid sphere bond" wide.data || fail "LAMMPS data: not hybrid sphere bond"
 
+# check --pairs: every listed pair within the gap; a pair that is not makes it exit 3.
+"$pfill" check c.ply cube --pairs pairs.csv > check.txt || fail "check --pairs: listed pairs should pass"
+grep -q "contacts        $pairs listed pairs, 0 beyond the gap" check.txt || fail "check --pairs: $(grep contacts check.txt)"
+"$pfill" contacts c.ply --gap 0.5 --pairs wide.csv > /dev/null || fail "contacts --gap 0.5"
+"$pfill" check c.ply cube --pairs wide.csv > /dev/null 2> bad.err; [ $? -eq 3 ] || fail "check --pairs with pairs 50% apart should exit 3"
+grep -q "farther apart than 2% of the smaller radius" bad.err || fail "check --pairs: $(cat bad.err)"
+"$pfill" check c.ply cube --pairs wide.csv --contact-gap 0.5 > /dev/null || fail "check --pairs --contact-gap 0.5"
+{ head -1 pairs.csv; echo "999999,1,0,0,0,0,1,0,0"; } > unknown.csv
+"$pfill" check c.ply cube --pairs unknown.csv > /dev/null 2> unknown.err; [ $? -eq 3 ] || fail "check --pairs with an unknown id should exit 3"
+
 "$pfill" contacts c.ply > none.txt 2> none.err; [ $? -eq 1 ] || fail "contacts without an output should exit 1"
 grep -q "say what to write" none.err || fail "contacts: no output named: $(cat none.err)"
 "$pfill" contacts c.ply --gap 2 --json > /dev/null 2>&1; [ $? -eq 2 ] || fail "--gap 2 should be a usage error"

@@ -4,6 +4,7 @@
 #pragma once
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
@@ -32,6 +33,13 @@ struct ContactResult {
 };
 ContactResult find_and_write_contacts(const ContactArgs& args, const ParticleSet& particles,
                                       const Boundary* boundary);
+
+/// `pfill check --pairs P.csv`: every pair listed in a contacts CSV (as
+/// --pairs writes it; wall rows skipped) is checked against `particles` (by
+/// id): its gap within `gap` x the smaller radius (to float rounding).
+/// Misses are appended to `misses`; returns the figures as JSON.
+nlohmann::ordered_json verify_pairs(const ParticleSet& particles, const std::string& path, double gap,
+                                    std::vector<std::string>& misses);
 
 /// One summary line: "contacts  M pairs (gap <= 2% of the smaller radius), mean coordination X, W at the wall".
 void print_contacts_line(std::FILE* out, const ContactNetwork& network, bool with_wall);

@@ -5,7 +5,11 @@
 // every format) and/or a CSV of the contacts. Also the helpers `pfill fill
 // --contacts` uses (cli/contact_options.hpp).
 #include <cstdio>
+#include <algorithm>
+#include <fstream>
 #include <iostream>
+#include <sstream>
+#include <unordered_map>
 
 #include "cli/commands.hpp"
 #include "cli/contact_options.hpp"
@@ -39,6 +43,51 @@ ContactResult find_and_write_contacts(const ContactArgs& a, const ParticleSet& p
   r.report = contacts_report_json(*r.network, particles, boundary);
   if (!a.pairs.empty()) write_contacts_csv(particles, *r.network, a.pairs);
   return r;
+}
+
+nlohmann::ordered_json verify_pairs(const ParticleSet& particles, const std::string& path, double gap,
+                                    std::vector<std::string>& misses) {
+  std::ifstream in(path);
+  if (!in) throw Error("cannot read '" + path + "' (--pairs): no such file, or no permission");
+  std::unordered_map<uint64_t, uint32_t> index;
+  for (size_t i = 0; i < particles.size(); ++i) index[particles.id(i)] = static_cast<uint32_t>(i);
+  std::string line;
+  std::getline(in, line);
+  if (line.rfind("a,b,gap", 0) != 0) throw Error("'" + path + "': not a contacts CSV (its header is not a,b,gap,...)");
+  size_t listed = 0, outside = 0, unknown = 0, row = 1;
+  double worst = -1e300;  // the largest gap over the smaller radius
+  while (std::getline(in, line)) {
+    ++row;
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    std::string a_text, b_text;
+    std::getline(fields, a_text, ',');
+    std::getline(fields, b_text, ',');
+    uint64_t a = 0, b = 0;
+    try {
+      a = std::stoull(a_text), b = std::stoull(b_text);
+    } catch (const std::exception&) {
+      throw Error("'" + path + "' line " + std::to_string(row) + ": not two particle ids");
+    }
+    if (b == 0) continue;  // a wall contact
+    ++listed;
+    const auto ia = index.find(a), ib = index.find(b);
+    if (ia == index.end() || ib == index.end()) {
+      ++unknown;
+      continue;
+    }
+    const double ra = particles.radii[ia->second], rb = particles.radii[ib->second];
+    const double g = length(particles.positions[ib->second] - particles.positions[ia->second]) - ra - rb;
+    const double rmin = std::min(ra, rb);
+    worst = std::max(worst, g / rmin);
+    if (g > gap * rmin + 1e-6 * (ra + rb)) ++outside;  // float positions in a PLY: rounding
+  }
+  if (unknown) misses.push_back(std::to_string(unknown) + " listed pairs name particle ids not in the file");
+  if (outside)
+    misses.push_back(std::to_string(outside) + " of " + std::to_string(listed) + " listed pairs are farther apart than " +
+                     num(100 * gap, 3) + "% of the smaller radius");
+  return {{"pairs_file", path}, {"listed", listed}, {"gap_fraction", gap}, {"largest_gap", listed ? worst : 0.0},
+          {"beyond_gap", outside}, {"unknown_ids", unknown}, {"found", find_contacts(particles, gap).pairs.size()}};
 }
 
 void print_contacts_line(std::FILE* out, const ContactNetwork& n, bool with_wall) {
