@@ -275,7 +275,7 @@ nlohmann::json run_fill_case(Device& device, Device& profiled, size_t target, do
             b.position = site;
             b.radius = kRadius;
             const FillOptions fo;
-            b.velocity = dir / length(dir) * (top * (fo.birth_speed_min + (fo.birth_speed_max - fo.birth_speed_min) * uni(rng)));
+            b.velocity = dir / length(dir) * (top * (fo.birth_speed[0] + (fo.birth_speed[1] - fo.birth_speed[0]) * uni(rng)));
             engine.add_particle(b);
             newborns.push_back({b.position, b.velocity, engine.steps_done()});
           }

@@ -243,6 +243,12 @@ def read_glb(path):
     if "_RADIUS" not in attributes:
         raise PfillFileError(f"{path}: the points have no _RADIUS attribute (is it a pfill particle file?)")
     y_up = accessor(attributes["POSITION"])
+    # Far from the origin pfill stores the points about their centre, the node's translation.
+    mesh_index = next(i for i, m in enumerate(gltf["meshes"]) if any(q is primitive for q in m.get("primitives", [])))
+    for node in gltf.get("nodes", []):
+        if node.get("mesh") == mesh_index and "translation" in node:
+            y_up = y_up + np.asarray(node["translation"], dtype=np.float64)
+            break
     out = {"positions": y_up, "radii": accessor(attributes["_RADIUS"])[:, 0], "colours": None, "velocities": None}
     if "COLOR_0" in attributes:
         out["colours"] = _srgb_from_linear(accessor(attributes["COLOR_0"])[:, :3])

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -68,7 +69,7 @@ class FillHooks {
     py::gil_scoped_acquire gil;
     try {
       py::dict d;
-      d["phase"] = p.phase;
+      d["phase"] = to_string(p.phase);
       d["step"] = p.step;
       d["particles"] = p.particles;
       d["target"] = p.target;
@@ -87,7 +88,7 @@ class FillHooks {
   std::exception_ptr pending_;
   bool user_cancelled_ = false;
   Clock::time_point last_poll_{};
-  std::string last_phase_;
+  std::optional<FillPhase> last_phase_;
   Clock::time_point last_report_{};
 };
 

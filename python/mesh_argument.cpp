@@ -25,6 +25,8 @@ bool is_builtin_name(const std::string& name) {
 Mesh mesh_from(const py::handle& object) {
   if (py::isinstance<py::str>(object) || py::hasattr(object, "__fspath__")) {
     const std::string path = py::str(py::module_::import("os").attr("fspath")(object));
+    if (path.find('\0') != std::string::npos)
+      throw Error("mesh: the path holds a NUL character ('" + excerpt(path) + "'); no file can have that name");
     if (is_builtin_name(path) && !std::filesystem::exists(path)) return make_builtin(path);
     py::gil_scoped_release release;
     return load_mesh(path);
@@ -36,6 +38,11 @@ Mesh mesh_from(const py::handle& object) {
     mesh.positions = to_vec3(rows_of_three(pair[0], "mesh vertices"));
     IndexArray t;
     try {
+      // Whole numbers only: forcecast would truncate 1.7 to 1 without a word.
+      const py::array given = py::array::ensure(pair[1]);
+      if (given && given.size() > 0 && given.dtype().kind() != 'i' && given.dtype().kind() != 'u')
+        throw Error("mesh triangles: give integer vertex indices, not " + std::string(py::str(given.dtype())) +
+                    " (an index like 1.7 would be cut to 1)");
       t = IndexArray::ensure(pair[1]);
     } catch (const py::error_already_set&) {
     }
@@ -52,6 +59,7 @@ Mesh mesh_from(const py::handle& object) {
       }
     weld_vertices(mesh);  // as the file loaders do: bit-identical duplicates
     validate(mesh);
+    mesh.turned_faces = orient_faces(mesh);
     return mesh;
   }
   throw Error("mesh: give a file path, a built-in shape name or a (vertices, triangles) pair");

@@ -21,6 +21,7 @@
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/fill_report.hpp"
+#include "pfill/fill_settings.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/shapes.hpp"
 
@@ -36,57 +37,52 @@ struct PyFillResult {
   size_t size = 0;
 };
 
-PyFillResult run_fill(const py::object& mesh_arg, std::optional<long long> count, std::optional<double> radius,
-                      double rest_distance, double epsilon, double cutoff, const py::object& exponents,
-                      double restitution, double wall_restitution, double damping, double time_step,
-                      long long seed, int sites, double site_spacing, double site_min_depth, double site_depth,
-                      int birth_every, double birth_clearance, double stop_share,
-                      const py::object& birth_speed, double max_step, const py::object& birth,
-                      const std::string& stop, int patience, int void_rounds, double void_clearance,
-                      double max_overlap, const py::object& colour, double skin, int sync_every,
-                      const std::string& device, const py::object& progress, const py::object& cancelled) {
-  FillOptions o;
-  if (count && *count < 0) throw Error("count must be >= 0 (about how many particles)");
-  if (seed < 0) throw Error("seed must be >= 0");
-  o.count = count ? static_cast<size_t>(*count) : 0;
-  o.radius = radius.value_or(0.0);
-  if (!count && !radius) o.count = 4000;  // the command line's default
-  o.rest_distance = rest_distance;
-  o.epsilon = epsilon;
-  o.cutoff = cutoff;
-  std::tie(o.exponent_a, o.exponent_b) = number_pair(exponents, "exponents");
-  if (!(o.exponent_a > o.exponent_b && o.exponent_b > 0))
-    throw Error("exponents: give A, B with A > B > 0 (default 12, 6)");
-  o.restitution = restitution;
-  o.wall_restitution = wall_restitution;
-  o.damping = damping;
-  o.time_step = time_step;
-  o.seed = static_cast<uint64_t>(seed);
-  o.sites = sites;
-  o.site_spacing = site_spacing;
-  o.site_min_depth = site_min_depth;
-  o.site_depth_share = site_depth;
-  o.birth_stop_share = stop_share;
-  o.birth_every = birth_every;
-  o.birth_clearance = birth_clearance;
-  std::tie(o.birth_speed_min, o.birth_speed_max) = number_pair(birth_speed, "birth_speed");
-  o.max_step_fraction = max_step;
-  if (!birth.is_none()) {
-    try {
-      o.birth_point = to_vec3(rows_of_three(py::make_tuple(birth), "birth"))[0];
-    } catch (const Error&) {
-      throw Error("birth: give three numbers (x, y, z), a point inside the mesh");
-    }
+/// A keyword's value as the text FillSetting::set reads: numbers as Python
+/// writes them (NaN stays "nan", which the parser refuses), sequences as
+/// "a,b,c", names as they are.
+std::string setting_text(const std::string& name, const py::handle& value) {
+  if (py::isinstance<py::bool_>(value)) throw Error(name + ": give a number or a name, not True or False");
+  if (py::isinstance<py::str>(value)) {
+    const std::string text = value.cast<std::string>();
+    if (text.find('\0') != std::string::npos) throw Error(name + ": the text holds a NUL character");
+    return text;
   }
-  o.stop = parse_stop_criterion(stop);
-  o.blocked.patience = patience;
-  o.void_rounds = void_rounds;
-  o.void_clearance = void_clearance;
-  o.max_overlap = max_overlap;
-  if (!colour.is_none()) o.colour = parse_colour_option(py::str(colour));
-  o.skin = skin;
-  o.sync_every = sync_every;
-  o.device = device;
+  if (py::isinstance<py::int_>(value) || PyNumber_Check(value.ptr()) && !py::isinstance<py::sequence>(value) &&
+                                             !py::isinstance<py::array>(value))
+    return py::str(py::isinstance<py::int_>(value) ? value : py::reinterpret_steal<py::object>(PyNumber_Float(value.ptr())));
+  if (py::isinstance<py::sequence>(value) || py::isinstance<py::array>(value)) {
+    std::string text;
+    for (const py::handle& item : py::iter(value)) {
+      if (py::isinstance<py::bool_>(item) || !PyNumber_Check(item.ptr()))
+        throw Error(name + ": give numbers, e.g. (1, 2, 3)");
+      text += (text.empty() ? "" : ",") + std::string(py::str(py::float_(py::reinterpret_borrow<py::object>(item))));
+    }
+    return text;
+  }
+  throw Error(name + ": give a number, a name or a sequence of numbers, not " +
+              std::string(py::str(py::type::of(value).attr("__name__"))));
+}
+
+PyFillResult run_fill(const py::object& mesh_arg, const py::kwargs& keywords) {
+  FillOptions o;
+  py::object progress = py::none(), cancelled = py::none();
+  for (const auto& [key, value] : keywords) {
+    const std::string name = py::str(key);
+    if (name == "progress") {
+      progress = py::reinterpret_borrow<py::object>(value);
+      continue;
+    }
+    if (name == "cancelled") {
+      cancelled = py::reinterpret_borrow<py::object>(value);
+      continue;
+    }
+    const FillSetting* setting = find_fill_setting(name);
+    if (!setting) throw Error("fill() got an unknown keyword '" + name + "' (see help(pfill.fill) for the settings)");
+    if (value.is_none()) continue;  // unset: the default
+    setting->set(o, setting_text(name, value));
+  }
+  if (o.radius <= 0 && o.count == 0) o.count = 4000;  // the command line's default
+  check_fill_options(o);  // before the mesh is read, as the command line does
 
   const Mesh mesh = mesh_from(mesh_arg);
   FillHooks hooks(progress, cancelled);
@@ -149,7 +145,12 @@ py::object check(const py::object& positions, const py::object& radii, const py:
     ps.radii.assign(r.data(), r.data() + r.shape(0));
   }
   validate(ps, "particles");
-  const Mesh mesh = mesh_from(mesh_arg);
+  if (!(tolerance >= 0 && tolerance <= 1)) throw Error("tolerance must be a number in 0..1 (a fraction of r)");
+  Mesh mesh = mesh_from(mesh_arg);
+  // About the mesh's centre, as fill() works (the ray tracer is single precision).
+  const Vec3 centre = mesh.bounds().centre();
+  for (Vec3& p : mesh.positions) p -= centre;
+  for (Vec3& p : ps.positions) p -= centre;
   PackingMetrics m;
   {
     py::gil_scoped_release release;
@@ -239,33 +240,25 @@ PYBIND11_MODULE(_pfill, m) {
   m.def("load_mesh", &load_mesh_arrays, py::arg("path"),
         "Reads a mesh file (glTF/GLB, OBJ, STL, PLY, OFF, SMF, ...) or a built-in shape name; returns "
         "(vertices (V, 3) float64, triangles (T, 3) int64), welded as `pfill fill` welds them.");
-  const FillOptions d;
-  m.def("fill", &run_fill, py::arg("mesh"), py::kw_only(), py::arg("count") = py::none(),
-        py::arg("radius") = py::none(), py::arg("rest_distance") = d.rest_distance, py::arg("epsilon") = d.epsilon,
-        py::arg("cutoff") = d.cutoff, py::arg("exponents") = py::make_tuple(d.exponent_a, d.exponent_b),
-        py::arg("restitution") = d.restitution, py::arg("wall_restitution") = d.wall_restitution,
-        py::arg("damping") = d.damping, py::arg("time_step") = d.time_step, py::arg("seed") = d.seed,
-        py::arg("sites") = d.sites, py::arg("site_spacing") = d.site_spacing,
-        py::arg("site_min_depth") = d.site_min_depth, py::arg("site_depth") = d.site_depth_share,
-        py::arg("birth_every") = d.birth_every, py::arg("birth_clearance") = d.birth_clearance,
-        py::arg("stop_share") = d.birth_stop_share,
-        py::arg("birth_speed") = py::make_tuple(d.birth_speed_min, d.birth_speed_max),
-        py::arg("max_step") = d.max_step_fraction, py::arg("birth") = py::none(), py::arg("stop") = "blocked",
-        py::arg("patience") = d.blocked.patience, py::arg("void_rounds") = d.void_rounds,
-        py::arg("void_clearance") = d.void_clearance, py::arg("max_overlap") = d.max_overlap,
-        py::arg("colour") = py::none(), py::arg("skin") = d.skin, py::arg("sync_every") = d.sync_every,
-        py::arg("device") = "", py::arg("progress") = py::none(), py::arg("cancelled") = py::none(),
-        "Fills a mesh (a file path, a built-in shape name, or a (vertices, triangles) pair) with spheres.\n\n"
-        "Options are `pfill fill`'s, by their command-line names with underscores (count, radius, "
-        "rest_distance, cutoff, exponents, seed, stop, colour, ...); with neither count nor radius, "
-        "count=4000 as on the command line. The same mesh, options, seed and device give the same "
-        "particles as `pfill fill`.\n"
-        "progress: called with a dict (phase, step, particles, target, kinetic_energy, colliding_pairs, "
-        "steps_per_second, elapsed, remaining) at each new phase and up to ten times a second; an "
-        "exception it raises stops the fill.\n"
-        "cancelled: called now and then; returning True stops the fill with pfill.Cancelled. "
-        "Ctrl-C stops it with KeyboardInterrupt.\n"
-        "Returns a FillResult (positions, radii, colours, velocities, ids, metrics, report, radius).");
+  std::string fill_doc =
+      "Fills a mesh (a file path, a built-in shape name, or a (vertices, triangles) pair) with spheres.\n\n"
+      "Settings are keywords with the names of `pfill fill`'s options (underscores for dashes) and of the C++ "
+      "FillOptions fields; with neither count nor radius, count=4000 as on the command line; None leaves a "
+      "setting at its default. The same mesh, settings, seed and device give the same particles as `pfill fill`.\n"
+      "progress: called with a dict (phase, step, particles, target, kinetic_energy, colliding_pairs, "
+      "steps_per_second, elapsed, remaining) at each new phase and up to ten times a second; an "
+      "exception it raises stops the fill.\n"
+      "cancelled: called now and then; returning True stops the fill with pfill.Cancelled. "
+      "Ctrl-C stops it with KeyboardInterrupt.\n"
+      "Returns a FillResult (positions, radii, colours, velocities, ids, metrics, report, radius).\n\n"
+      "Settings (default in brackets):\n";
+  for (const FillSetting& setting : fill_settings()) {
+    const std::string shown = setting.get(FillOptions{});
+    fill_doc += "  " + setting.name + " (" + setting.value_form + (shown.empty() ? "" : ") [" + shown + "]") +
+                (shown.empty() ? ")" : "") + ": " + setting.help + "\n";
+  }
+  static const std::string fill_doc_kept = fill_doc;  // pybind11 keeps the pointer
+  m.def("fill", &run_fill, py::arg("mesh"), fill_doc_kept.c_str());
   m.def("check", &check, py::arg("positions"), py::arg("radii"), py::arg("mesh"), py::kw_only(),
         py::arg("tolerance") = MetricsOptions{}.containment_tolerance,
         "Measures spheres against a mesh, exactly (as `pfill check --json`): returns the metrics dict "

@@ -17,7 +17,7 @@ refused() {
   [ "$(grep -c . err.txt)" -le 3 ] || fail "$*: more than a line or two on stderr: $(cat err.txt)"
 }
 
-"$pfill" fill --builtin sphere -n 60 -q --void-rounds 0 -o mesh.ply >/dev/null || fail "a small fill"
+"$pfill" fill --builtin sphere -n 60 -q --hole-rounds 0 -o mesh.ply >/dev/null || fail "a small fill"
 printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n' > same.obj
 cp same.obj keep.obj
 mkdir -p sub frames
@@ -42,7 +42,7 @@ refused "seed" "$pfill" fill --seed 18446744073709551616
 refused "not both" "$pfill" fill -n 300 -r 0.05
 refused "not both" "$pfill" fill same.obj --builtin cube
 refused "patience" "$pfill" fill --patience 0
-refused "void-rounds" "$pfill" fill --void-rounds -1
+refused "hole-rounds" "$pfill" fill --hole-rounds -1
 refused "site-depth" "$pfill" fill --site-depth 2
 refused "birth-clearance" "$pfill" fill --birth-clearance 0.1
 ls .*.tmp* >/dev/null 2>&1 && fail "temporary files left: $(ls -a)"
@@ -60,6 +60,10 @@ got=$?
 grep -q "interrupted: the fill stopped" int_err.txt || fail "SIGTERM during a fill: no 'interrupted' line: $(cat int_err.txt)"
 [ -e interrupted.ply ] && fail "SIGTERM during a fill left its output"
 ls -a iframes 2>/dev/null | grep -q '\.tmp' && fail "SIGTERM left a temporary frame: $(ls -a iframes)"
+# Frames written before the signal are named, not "wrote nothing" (issue 33).
+if ls iframes/frame_*.ply >/dev/null 2>&1; then
+  grep -q "frames are in iframes" int_err.txt || fail "SIGTERM after frames: they are not mentioned: $(cat int_err.txt)"
+fi
 
 [ "$failures" -eq 0 ] && echo "all CLI hardening checks passed"
 exit "$failures"

@@ -40,10 +40,10 @@ printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n' > bad.obj
 expect_error 1 "missing.obj" "$pfill" fill missing.obj -o out.ply
 expect_error 1 "index" "$pfill" fill bad.obj -o out.ply
 expect_error 1 "no particle of radius" "$pfill" fill --builtin sphere -r 5 -o out.ply
-expect_error 1 "more than pfill handles" "$pfill" fill --builtin sphere -n 2000000000 -o out.ply
+expect_error 2 "more than pfill handles" "$pfill" fill --builtin sphere -n 2000000000 -o out.ply
 expect_error 1 "outside the mesh" "$pfill" fill --builtin sphere -n 100 --birth 5,0,0 -o out.ply
 expect_error 1 "no_such_dir" "$pfill" fill --builtin sphere -n 50 -q -o no_such_dir/out.ply
-expect_error 1 "blocked, ke or collisions" "$pfill" fill --builtin sphere -n 50 --stop never -o out.ply
+expect_error 2 "blocked, ke or collisions" "$pfill" fill --builtin sphere -n 50 --stop never -o out.ply
 expect_error 1 "PFILL_DEVICE\|no OpenCL device\|device" "$pfill" fill --builtin sphere -n 50 --device nosuchdevice -o out.ply
 [ ! -e out.ply ] || fail "a failed fill left out.ply behind"
 ls -A | grep -q '^\.' && fail "temporary files left behind: $(ls -A | grep '^\.')"

@@ -3,6 +3,8 @@
 // SMF and OBJ files end to end, fallbacks and errors, Spot's texture.
 #include <doctest/doctest.h>
 
+#include "skip.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -426,8 +428,7 @@ TEST_CASE("depth: colours grow lighter from the surface inward (and fallback, co
 TEST_CASE("shared mesh: points inside Spot take the colours of her texture") {
   const std::string path = std::string(PFILL_SHARED_MESHES) + "/spot_textured.glb";
   if (!std::filesystem::exists(path)) {
-    MESSAGE("skipped: " << path << " not found");
-    return;
+    PFILL_SKIP(path << " not found");
   }
   const Mesh spot = load_mesh(path);
   const Boundary boundary(spot);

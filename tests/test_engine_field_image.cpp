@@ -3,6 +3,8 @@
 // image limits as clear errors. Skips when the device has no images.
 #include <doctest/doctest.h>
 
+#include "skip.hpp"
+
 #include <cmath>
 
 #include "engine_fixtures.hpp"
@@ -33,8 +35,7 @@ EngineParams wall_params(double cutoff_sigma, bool image) {
 TEST_CASE("engine: the field as a 3D image gives the buffer path's positions (sphere, 100 steps)") {
   Device& device = shared_device();
   if (!has_images(device)) {
-    MESSAGE("skipped: device '" << device.info().name << "' has no image support");
-    return;
+    PFILL_SKIP("device '" << device.info().name << "' has no image support");
   }
   const double R = 4.0;
   const ScalarGrid field = sphere_grid(R, 0.125);
@@ -77,8 +78,7 @@ TEST_CASE("engine: the field as a 3D image gives the buffer path's positions (sp
 TEST_CASE("engine: the image field also runs without a field (domain only), and bad sizes are clear errors") {
   Device& device = shared_device();
   if (!has_images(device)) {
-    MESSAGE("skipped: device '" << device.info().name << "' has no image support");
-    return;
+    PFILL_SKIP("device '" << device.info().name << "' has no image support");
   }
   EngineParams p = wall_params(0.0, true);
   p.domain.add({-3, -3, -3});

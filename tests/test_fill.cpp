@@ -88,7 +88,7 @@ TEST_CASE("renumbering the particles along the cells every 64 steps: fills as go
   k.stop = StopCriterion::KineticEnergy;
   k.birth_every = 40;
   k.ke = {3, 50, 2};
-  k.blocked.patience = 100000;
+  k.patience = 100000;
   const FillResult rk = fill(make_icosphere(1.0, 3), k);
   CHECK(rk.stop_signal == "ke");
   CHECK(rk.ke_events == 2);
@@ -111,7 +111,7 @@ TEST_CASE("the kinetic-energy test ends pass 1 when told to and it fires") {
   o.stop = StopCriterion::KineticEnergy;
   o.birth_every = 40;           // quiet stretches between births, so rises can be seen
   o.ke = {3, 50, 2};            // a short run of rises is an instability
-  o.blocked.patience = 100000;  // the fallback must not end it first
+  o.patience = 100000;  // the fallback must not end it first
   const FillResult r = fill(make_icosphere(1.0, 3), o);
   CHECK(r.stop_signal == "ke");
   CHECK(r.ke_events == 2);
@@ -122,7 +122,7 @@ TEST_CASE("the collision-count test ends pass 1 when told to and it fires") {
   FillOptions o = small_fill(200);
   o.stop = StopCriterion::Collisions;
   o.collisions = {5, 20, 1};  // five steps of a steady count; one failed removal is overfull
-  o.blocked.patience = 100000;
+  o.patience = 100000;
   const FillResult r = fill(make_icosphere(1.0, 3), o);
   CHECK(r.stop_signal == "collisions");
   CHECK(r.metrics.contained_share == 1.0);
@@ -132,7 +132,7 @@ TEST_CASE("with the report's tests chosen but silent, blocked sites still end th
   FillOptions o = small_fill(150);
   o.stop = StopCriterion::KineticEnergy;
   o.ke = {1000000, 10, 1};  // can never fire
-  o.blocked.patience = 500;
+  o.patience = 500;
   const FillResult r = fill(make_icosphere(1.0, 3), o);
   CHECK(r.stop_signal == "blocked");
   CHECK(r.stop_reason.find("did not fire") != std::string::npos);
@@ -173,13 +173,13 @@ TEST_CASE("bad fills give one clear line") {
   o.radius = 1e-5;
   CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("more than pfill handles"), Error);
   o = small_fill(100);
-  o.birth_point = Vec3{3, 0, 0};
+  o.birth = Vec3{3, 0, 0};
   CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("outside the mesh"), Error);
   o = small_fill(100);
   o.rest_distance = 0.5;
-  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("--rest-distance"), Error);
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("rest_distance must"), Error);
   o = FillOptions{};
-  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("radius (-r) or a count (-n)"), Error);
+  CHECK_THROWS_WITH_AS(fill(sphere, o), doctest::Contains("give a count or a particle radius"), Error);
   Mesh empty;
   empty.source = "nothing.obj";
   CHECK_THROWS_WITH_AS(fill(empty, small_fill(10)), doctest::Contains("nothing.obj"), Error);

@@ -16,21 +16,21 @@ TEST_CASE("a fill stops with pfill::Cancelled at the poll that asks it to") {
   FillOptions o;
   o.count = 5000;  // far more steps than the polls below: only a cancel ends it early
   int polls = 0;
-  std::string phase;
+  FillPhase phase = FillPhase::Field;
   o.progress = [&](const FillProgress& p) { phase = p.phase; };
   o.cancelled = [&] { return ++polls == 10; };
   CHECK_THROWS_AS(fill(make_builtin("sphere"), o), Cancelled);
   CHECK(polls == 10);
-  CHECK(phase == "pass 1");
+  CHECK(phase == FillPhase::Pass1);
 }
 
 TEST_CASE("the finish's relaxations poll the cancel hook too") {
   FillOptions o;
   o.count = 150;
-  std::string phase;
+  FillPhase phase = FillPhase::Field;
   int finish_polls = 0;
   o.progress = [&](const FillProgress& p) { phase = p.phase; };
-  o.cancelled = [&] { return phase == "finish" && ++finish_polls == 2; };
+  o.cancelled = [&] { return phase == FillPhase::Finish && ++finish_polls == 2; };
   CHECK_THROWS_AS(fill(make_builtin("cube"), o), Cancelled);
   CHECK(finish_polls == 2);
 }

@@ -101,6 +101,25 @@ TEST_CASE("finish: an over-full ball forces deletions, which are counted, and th
   }
 }
 
+TEST_CASE("finish: a loose packing is compressed by holes taken below 2r, to a dense one within the bound") {
+  // Spacing 2.5 r: a packing of 0.17 in the ball, with room everywhere
+  // between the lattice points for spheres that overlap their neighbours.
+  const std::vector<Particle> ps = lattice(2.5 * kR, kBall - kR);
+  REQUIRE(ps.size() > 50);
+  auto packing = [](const ParticleSet& s) { return s.size() * std::pow(kR / kBall, 3); };
+  FinishStats plain_stats, compressed_stats;
+  const ParticleSet plain =
+      finish_packing(shared_device(), base_params(), ball_field(), ps, settings(0.001), plain_stats);
+  FinishSettings s = settings(0.001);
+  s.compress_clearance = 1.7;
+  const ParticleSet compressed = finish_packing(shared_device(), base_params(), ball_field(), ps, s, compressed_stats);
+  INFO("plain " << packing(plain) << ", compressed " << packing(compressed));
+  CHECK(packing(compressed) > 0.5);  // a ball of 7 r packs 0.45-0.66 at random
+  CHECK(packing(compressed) > packing(plain) + 0.03);
+  CHECK(worst_overlap(compressed) <= 0.001);
+  for (const Vec3& p : compressed.positions) CHECK(length(p) <= kBall - kR * (1 - 1e-3));
+}
+
 TEST_CASE("fill a sphere at a 0.1% bound and at none: bound met, every sphere inside, dense, no hole left") {
   for (double bound : {0.001, 0.0}) {
     CAPTURE(bound);

@@ -9,7 +9,12 @@
 // regression file in tests/fuzz_regressions/, which the last test replays.
 #include <doctest/doctest.h>
 
+#include <sys/stat.h>
+
 #include <chrono>
+#include <fstream>
+#include <map>
+#include <sstream>
 #include <cstdlib>
 #include <filesystem>
 #include <random>
@@ -220,17 +225,76 @@ TEST_CASE("fuzz: particle readers, PLY (binary and ascii) and CSV") {
   fuzz("particles csv", s.file("seed.csv"), "csv", try_particles);
 }
 
-TEST_CASE("fuzz regressions: every kept input gives a valid result or one pfill::Error") {
+// tests/fuzz_regressions/EXPECTED: what each kept input must give.
+struct Expectation {
+  bool valid = true;
+  std::string text;                 // reject: the message contains it
+  double volume = -1;               // valid: the volume (when >= 0)
+  long parts = -1;                  // valid: the number of parts (when >= 0)
+};
+
+std::map<std::string, Expectation> read_expectations(const fs::path& file) {
+  std::map<std::string, Expectation> out;
+  std::ifstream in(file);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream words(line);
+    std::string name, kind;
+    words >> name >> kind;
+    Expectation e;
+    e.valid = kind == "valid";
+    if (!e.valid) {
+      std::getline(words >> std::ws, e.text);
+    } else {
+      std::string key;
+      while (words >> key) {
+        if (key == "volume") words >> e.volume;
+        if (key == "parts") words >> e.parts;
+      }
+    }
+    out[name] = e;
+  }
+  return out;
+}
+
+TEST_CASE("fuzz regressions: every kept input gives what EXPECTED says, or a valid result or one pfill::Error") {
   const fs::path folder = fs::path(PFILL_SOURCE_TESTS) / "fuzz_regressions";
-  size_t replayed = 0;
+  const auto expected = read_expectations(folder / "EXPECTED");
+  REQUIRE(expected.size() >= 4);
+  size_t replayed = 0, asserted = 0;
   for (const auto& entry : fs::directory_iterator(folder)) {
     const std::string path = entry.path().string();
     const std::string name = entry.path().filename().string();
-    if (name == "README.md") continue;
+    if (name == "README.md" || name == "EXPECTED") continue;
     CAPTURE(path);
     const bool particles = name.find("particles") != std::string::npos || entry.path().extension() == ".csv";
-    (particles ? try_particles : try_mesh)(path);
+    const Outcome outcome = (particles ? try_particles : try_mesh)(path);
     ++replayed;
+    const auto it = expected.find(name);
+    if (it == expected.end()) continue;
+    ++asserted;
+    const Expectation& e = it->second;
+    if (!e.valid) {
+      CHECK(outcome == Outcome::Rejected);
+      CHECK_THROWS_WITH_AS(load_mesh(path), doctest::Contains(e.text.c_str()), Error);
+      continue;
+    }
+    REQUIRE(outcome == Outcome::Valid);
+    const Mesh m = load_mesh(path);
+    const MeshDiagnostics d = diagnose(m);
+    CHECK(d.misoriented_edges == 0);
+    CHECK(!d.inside_out());
+    if (e.volume >= 0) CHECK(d.volume() == doctest::Approx(e.volume).epsilon(1e-9));
+    if (e.parts >= 0) CHECK(static_cast<long>(d.components) == e.parts);
   }
-  MESSAGE(replayed << " regression inputs replayed");
+  MESSAGE(replayed << " regression inputs replayed, " << asserted << " against EXPECTED");
+  CHECK(asserted == expected.size());  // every listed file is there
+}
+
+TEST_CASE("a FIFO as the mesh is refused at once, not opened or waited on") {
+  test::TempDir dir("fifo");
+  const std::string path = dir.file("mesh.obj");
+  REQUIRE(::mkfifo(path.c_str(), 0600) == 0);
+  CHECK_THROWS_WITH_AS(load_mesh(path), doctest::Contains("not a regular file"), Error);
 }

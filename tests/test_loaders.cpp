@@ -3,6 +3,8 @@
 // through assimp; SMF) and on the shared real meshes when present.
 #include <doctest/doctest.h>
 
+#include "skip.hpp"
+
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -342,8 +344,7 @@ TEST_CASE("SMF: a malformed line is an error naming the file and the line") {
 TEST_CASE("shared meshes: spot.glb welds closed, spot_textured.glb has a texture, the bunny loads") {
   const std::string folder = PFILL_SHARED_MESHES;
   if (!std::filesystem::exists(folder + "/spot.glb")) {
-    MESSAGE("skipped: " << folder << " is not present");
-    return;
+    PFILL_SKIP(folder << " is not present");
   }
   const Mesh spot = load_mesh(folder + "/spot.glb");
   CHECK(spot.triangle_count() == 5856);

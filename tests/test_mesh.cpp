@@ -10,7 +10,6 @@
 using namespace pfill;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 TEST_CASE("cube: exact volume, area, closed, genus 0") {
@@ -106,15 +105,6 @@ TEST_CASE("non-manifold edge and degenerate triangle are counted") {
   CHECK(d.non_manifold_edges >= 1);
   CHECK(d.degenerate_triangles == 1);
   CHECK_FALSE(d.watertight());
-}
-
-TEST_CASE("radius_for_count inverts the packing relation") {
-  const double v = 8.0;
-  for (double n : {1e3, 1e4, 1e5, 1e6}) {
-    const double r = radius_for_count(v, n, 0.6);
-    CHECK(n * 4.0 / 3.0 * kPi * r * r * r == doctest::Approx(0.6 * v).epsilon(1e-12));
-  }
-  CHECK(radius_for_count(0.0, 10) == 0.0);
 }
 
 TEST_CASE("weld_vertices merges exact and near duplicates, keeps distinct ones") {

@@ -15,7 +15,6 @@
 using namespace pfill;
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 ParticleSet spheres(std::initializer_list<Vec3> centres, double r) {
   ParticleSet s;

@@ -39,7 +39,7 @@ TEST_CASE("a fill's ids are unique, stable across frames and in the result; the 
   // wrong id after a renumbering would point at a particle elsewhere.
   size_t followed = 0;
   for (size_t f = 0; f + 1 < frames.size(); ++f) {
-    const double reach = double(steps[f + 1] - steps[f]) * o.max_step_fraction * 2 * r.radius * 1.01;
+    const double reach = double(steps[f + 1] - steps[f]) * o.max_step * 2 * r.radius * 1.01;
     INFO("frames at steps " << steps[f] << " and " << steps[f + 1]);
     std::map<uint64_t, Vec3> before;
     for (size_t i = 0; i < frames[f].size(); ++i) before[frames[f].ids.at(i)] = frames[f].positions[i];

@@ -2,6 +2,8 @@
 // on hand-written, truncated and corrupted files, frame sequences, and the
 // Khronos validator on our GLB files (where node and the validator exist).
 #include <doctest/doctest.h>
+
+#include "skip.hpp"
 #include <tiny_gltf.h>
 #include <assimp/Importer.hpp>
 #include <assimp/scene.h>
@@ -344,7 +346,7 @@ TEST_CASE("GLB read back by tinygltf: POINTS with POSITION bounds, linear COLOR_
 TEST_CASE("GLB files pass the Khronos glTF validator with no errors (skipped without node)") {
   const fs::path script = fs::path(__FILE__).parent_path().parent_path() / "scripts" / "validate_gltf.js";
   if (!fs::exists(script) || std::system("node --version > /dev/null 2>&1") != 0) {
-    MESSAGE("node or scripts/validate_gltf.js missing: validator test skipped");
+    PFILL_SKIP("node or scripts/validate_gltf.js missing: the validator test cannot run");
     return;
   }
   ScratchDir dir("gltfval");
@@ -359,7 +361,7 @@ TEST_CASE("GLB files pass the Khronos glTF validator with no errors (skipped wit
     const int status = std::system(("node '" + script.string() + "' '" + (dir / c.name).string() + "' > '" +
                                     report.string() + "' 2>/dev/null").c_str());
     if (WIFEXITED(status) && WEXITSTATUS(status) == 2) {
-      MESSAGE("gltf-validator not installed (npm install -g gltf-validator): validator test skipped");
+      PFILL_SKIP("gltf-validator not installed (npm install -g gltf-validator)");
       return;
     }
     const std::string text = test::read_text(report);

@@ -77,7 +77,7 @@ TEST_CASE("no births now: pass 1 ends within its patience window") {
 
 TEST_CASE("phases without a model give no figure") {
   TimeLeft t(schedule(true, 1000, 0.01));
-  for (const char* phase : {"field", "verify", "written"}) CHECK(t.estimate(phase, 10, 1000, 100, 0) == -1);
+  for (FillPhase phase : {FillPhase::Field, FillPhase::Verify}) CHECK(t.estimate(phase, 10, 1000, 100, 0) == -1);
 }
 
 TEST_CASE("the settle: its budget left, then the finish's steps, at the step's cost now") {
@@ -85,10 +85,10 @@ TEST_CASE("the settle: its budget left, then the finish's steps, at the step's c
   TimeLeft t(schedule(true, expected, 0.01));
   const size_t n = 1050;  // pass 1's overfull count: no scaling up to it
   t.settle_started(20000);
-  CHECK(t.estimate("settle", 100, n, 20000, 0) == -1);  // no timing yet
-  const double at_500 = t.estimate("settle", 100 + 500 * per_step, n, 20500, 0);
+  CHECK(t.estimate(FillPhase::Settle, 100, n, 20000, 0) == -1);  // no timing yet
+  const double at_500 = t.estimate(FillPhase::Settle, 100 + 500 * per_step, n, 20500, 0);
   CHECK(at_500 == doctest::Approx((1500 + TimeLeft::kFinishStepCost * TimeLeft::kFinishSteps) * per_step));
-  const double at_1500 = t.estimate("settle", 100 + 1500 * per_step, n, 21500, 0);
+  const double at_1500 = t.estimate(FillPhase::Settle, 100 + 1500 * per_step, n, 21500, 0);
   CHECK(at_500 - at_1500 == doctest::Approx(1000 * per_step));
 }
 
@@ -97,20 +97,20 @@ TEST_CASE("the finish: its steps so far at their average cost, then no figure pa
   t.finish_started(50);
   const uint64_t before = 22000;
   // 3,000 steps in 45 s (host work between relaxations included): 15 ms a step.
-  CHECK(t.estimate("finish", 95, 1000, before + 3000, 3000) ==
+  CHECK(t.estimate(FillPhase::Finish, 95, 1000, before + 3000, 3000) ==
         doctest::Approx((TimeLeft::kFinishSteps - 3000) * 0.015));
-  CHECK(t.estimate("finish", 200, 1000, before + 10000, 10000) == -1);
+  CHECK(t.estimate(FillPhase::Finish, 200, 1000, before + 10000, 10000) == -1);
 }
 
 TEST_CASE("the finish's first steps are timed by the settle's, not by the finish's start-up") {
   TimeLeft t(schedule(true, 1000, 0.01));
   const size_t n = 1050;
   t.settle_started(20000);
-  t.estimate("settle", 100, n, 20000, 0);
-  t.estimate("settle", 110, n, 21000, 0);  // 10 ms a step
+  t.estimate(FillPhase::Settle, 100, n, 20000, 0);
+  t.estimate(FillPhase::Settle, 110, n, 21000, 0);  // 10 ms a step
   t.finish_started(111);
   // 100 steps of the finish after 30 s of its start-up (engine, upload, sort).
-  CHECK(t.estimate("finish", 141, n, 21100, 100) ==
+  CHECK(t.estimate(FillPhase::Finish, 141, n, 21100, 100) ==
         doctest::Approx((TimeLeft::kFinishSteps - 100) * TimeLeft::kFinishStepCost * 0.01));
 }
 
@@ -119,13 +119,13 @@ TEST_CASE("pass 1 with waves: the steps left count down to the waves' usual tota
   TimeLeft t(schedule(true, expected, 0.01));
   t.pass1_started(0);
   const size_t n = static_cast<size_t>(TimeLeft::kOverfill * expected);  // as full as it gets: no scaling up
-  auto at = [&](uint64_t step, size_t count) { return t.estimate("pass 1", per_step * step, count, step, 0); };
+  auto at = [&](uint64_t step, size_t count) { return t.estimate(FillPhase::Pass1, per_step * step, count, step, 0); };
   at(4000, n - 1);
   const double early = at(6000, n);
   TimeLeft later(schedule(true, expected, 0.01));
   later.pass1_started(0);
-  later.estimate("pass 1", per_step * 11000, n - 1, 11000, 0);
-  const double late = later.estimate("pass 1", per_step * 13000, n, 13000, 0);
+  later.estimate(FillPhase::Pass1, per_step * 11000, n - 1, 11000, 0);
+  const double late = later.estimate(FillPhase::Pass1, per_step * 13000, n, 13000, 0);
   const double after = (2000 + TimeLeft::kFinishStepCost * TimeLeft::kFinishSteps) * TimeLeft::kSettleStepCost * per_step;
   // The count is full either way, so a step costs the same.
   CHECK(early - after == doctest::Approx((TimeLeft::kWavePass1Steps - 6000) * per_step).epsilon(0.01));
@@ -134,8 +134,8 @@ TEST_CASE("pass 1 with waves: the steps left count down to the waves' usual tota
   // 2,000 steps, far under the stop share: a patience window or less.
   TimeLeft past(schedule(true, expected, 0.01));
   past.pass1_started(0);
-  past.estimate("pass 1", per_step * 18000, n - 2, 18000, 0);
-  const double over = past.estimate("pass 1", per_step * 20000, n, 20000, 0) - after;
+  past.estimate(FillPhase::Pass1, per_step * 18000, n - 2, 18000, 0);
+  const double over = past.estimate(FillPhase::Pass1, per_step * 20000, n, 20000, 0) - after;
   CHECK(over > 0);
   CHECK(over <= 1500 * per_step * 1.01);
 }
@@ -147,7 +147,7 @@ TEST_CASE("a fill reports progress through its finish, at every read of the rela
   uint64_t finish_reports = 0, last_step = 0;
   bool steps_rise = true;
   o.progress = [&](const FillProgress& p) {
-    if (p.phase != "finish") return;
+    if (p.phase != FillPhase::Finish) return;
     ++finish_reports;
     steps_rise = steps_rise && p.step >= last_step;
     last_step = p.step;

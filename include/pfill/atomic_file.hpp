@@ -58,6 +58,11 @@ void remove_temporary_files_on_signals();
 /// the process as above. nullptr restores the plain behaviour.
 void defer_interrupts_to(volatile std::sig_atomic_t* flag);
 
+/// Removes the temporary files of earlier writes of `target` whose process
+/// is gone (a SIGKILL during the final rename cannot be caught: it left
+/// `.NAME.tmpPID-K` behind); returns how many. Others' live writes are kept.
+size_t remove_stale_temporaries(const std::filesystem::path& target);
+
 /// Opens an AtomicFile for `target`, lets `fill` write into it and commits;
 /// if `fill` throws, the temporary file is removed, any existing target is
 /// left as it was, and the exception propagates.

@@ -17,6 +17,20 @@ struct BirthSite {
   double depth = 0;  ///< distance to the surface (from the field)
 };
 
+/// The closed parts of a field's inside (6-connected samples below 0) and
+/// what add_sites_per_part did with them.
+struct PartSites {
+  size_t parts = 0;      ///< parts with an inside sample
+  size_t added = 0;      ///< parts that had no site and got one (their deepest sample)
+  size_t too_small = 0;  ///< parts whose deepest sample is less than min_depth inside
+};
+
+/// Gives every closed part of the inside that is at least `min_depth` deep
+/// a site (its deepest sample) when none of `sites` lies in it, so a mesh of
+/// many separate parts fills them all (issue 33: 216 separate spheres got 4
+/// sites and 127 stayed empty); counts the parts too thin for that.
+PartSites add_sites_per_part(const ScalarGrid& sdf, double min_depth, std::vector<BirthSite>& sites);
+
 /// The deepest grid point, then, `count - 1` times, the grid point farthest
 /// from all sites chosen so far among the points at least `depth_share` as
 /// deep as the deepest (farthest-point sampling of the deep core: sites

@@ -4,6 +4,7 @@
 /// pushes and inelastic collisions on the OpenCL engine, stop when overfull,
 /// top up, settle, relieve overlaps, verify exactly).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -13,6 +14,7 @@
 
 #include "pfill/birth_sites.hpp"
 #include "pfill/colour.hpp"
+#include "pfill/count_rule.hpp"
 #include "pfill/mesh.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/particles.hpp"
@@ -23,9 +25,16 @@ namespace pfill {
 class ParticleEngine;
 struct EngineParams;
 
+/// The parts of a fill, in the order they run (DESIGN.md's algorithm).
+enum class FillPhase { Field, Pass1, Pass2, Settle, Finish, Verify };
+
+/// The phase's name as progress lines show it: "field", "pass 1", "pass 2",
+/// "settle", "finish", "verify".
+const char* to_string(FillPhase phase);
+
 /// What a long fill reports while it runs (through FillOptions::progress).
 struct FillProgress {
-  std::string phase;            ///< "field", "pass 1", "pass 2", "settle", "finish", "verify"
+  FillPhase phase = FillPhase::Field;
   uint64_t step = 0;            ///< engine steps so far
   size_t particles = 0;
   size_t target = 0;            ///< the count expected when full (an estimate)
@@ -37,84 +46,81 @@ struct FillProgress {
   size_t peak_memory = 0;       ///< the process's peak resident bytes so far (peak_resident_bytes)
 };
 
+/// A fill's settings. Each has one name: this field, the Python keyword
+/// of pfill.fill() and, with dashes, the command-line flag (the table in
+/// fill_settings.hpp, which parses and documents them). The first group is
+/// what a user chooses; the tuning below changes how the fill gets there.
 struct FillOptions {
-  // Density, as in the report: a radius, or a count that picks one.
+  // ---- the user's: density, physics of the report, seed, device ----
   double radius = 0;            ///< particle radius in mesh units; 0: from `count`
   size_t count = 0;             ///< about this many particles (when radius is 0)
-  double rest_distance = 1.0;   ///< potential minimum, in contact distances 2r (>= 1)
-
-  // The potential and collisions.
-  double epsilon = 1.0;
-  double exponent_a = 12, exponent_b = 6;
+  double max_overlap = 0.001;   ///< bound on every pair's overlap after the finish, fraction of r (0: none, below 1e-4 r)
+  double rest_distance = 1.0;   ///< potential minimum, in contact distances 2r (>= 1; larger: sparser)
+  double epsilon = 1.0;         ///< depth of the potential well
+  std::array<double, 2> exponents{12, 6};  ///< the potential's exponents A > B > 0 (repulsive, attractive)
   double cutoff = 0;            ///< in sigma; 0: purely repulsive (cut at the minimum)
-  double restitution = 0.5;
-  double wall_restitution = 0.5;
-  double damping = 0;           ///< velocity damping rate during passes 1-2
-  double time_step = 0.01;      ///< in units of the potential's time scale tau = sigma sqrt(m / eps)
-  double max_step_fraction = 0.1;   ///< no particle moves more than this many sigma a step (the top speed)
+  double restitution = 0.5;     ///< particle-particle
+  double wall_restitution = 0.5;  ///< particle-surface
+  /// What ends pass 1: the blocked-sites test (default), or the report's
+  /// kinetic-energy or collision-count test (then the finish compresses
+  /// what they leave, as they fire before the object is full).
+  StopCriterion stop = StopCriterion::Blocked;
+  uint64_t seed = 1;
+  /// Colour: from the surface (vertex colours, texture), by depth, none, or
+  /// one colour. Empty: surface when the mesh has colours, else none.
+  std::optional<ColourOptions> colour;
+  std::string device;           ///< OpenCL device spec (index or name); "" = default
 
-  // Births. Two schedules (sites = -1, the default, picks waves from about
-  // 2,000 particles on, where they are faster, and the report's 2 sites
-  // below, where they pack denser and the fill takes seconds anyway):
-  // - waves (sites = 0): sites spread over the whole interior,
-  //   one per ~site_spacing^3 of volume, so their number grows with the
-  //   count and pass 1 takes about as many steps at any size; every
-  //   `birth_every` steps each site with room gets a newborn (one wave).
+  // ---- tuning: the schedule of births ----
+  // Two schedules (sites = -1, the default, picks waves from about 2,000
+  // particles on, where they are faster, and the report's 2 sites below):
+  // - waves (sites = 0): sites spread over the whole interior, one per
+  //   ~site_spacing^3 of volume, so pass 1 takes about as many steps at any
+  //   size; every `birth_every` steps each site with room gets a newborn.
   // - the report's (sites >= 1): the deepest point, then far deep points
   //   (`--sites 1 --birth-every 1` is the report's single birth point).
   int sites = -1;               ///< -1: automatic; 0: waves over spread sites; N >= 1: N deepest, far-apart sites
-  double site_depth_share = 0.75;  ///< sites >= 1: sites after the first are at least this share of the deepest depth
-  int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 48 (waves)
+  double site_depth = 0.75;     ///< sites >= 1: sites after the first lie at least this share of the deepest depth inside
   double site_spacing = 5;      ///< waves: sites at least this many rest distances (2r) apart
   double site_min_depth = 2;    ///< waves: sites at least this many radii inside
-  std::optional<Vec3> birth_point;  ///< overrides the first site
-  double birth_speed_min = 0.3; ///< newborn speed range, as fractions of the top speed
-  double birth_speed_max = 0.6;
-  /// A site has room when no centre is within this many rest distances (2r
-  /// by default); 0: automatic, 0.5 for the report's schedule (measured on
-  /// spot and a torus: densest) and 0.55 for waves (0.5 over many sites
-  /// overfills, and relief then deletes more than it gained).
+  int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 48 (waves)
+  std::optional<Vec3> birth;    ///< overrides the first site (must lie r inside)
+  std::array<double, 2> birth_speed{0.3, 0.6};  ///< newborn speed range, as fractions of the top speed
+  /// A site has room when no centre is within this many rest distances; 0:
+  /// automatic, 0.5 for the report's schedule and 0.55 for waves.
   double birth_clearance = 0;
-  uint64_t seed = 1;
-
-  // Pass 1 stopping.
-  StopCriterion stop = StopCriterion::Blocked;
-  KineticEnergySettings ke;
-  CollisionCountSettings collisions;
-  BlockedSitesSettings blocked;
-  /// Waves: pass 1 also ends when the births of the last `blocked.patience`
-  /// steps are at most this share of the particles. -1: automatic, 3% under
-  /// a bound (max_overlap) below 1% of r, where later births only overfill
-  /// what the finish then deletes (spot -n 100000: 0.6268 against 0.6254 at
-  /// 1%, in 19% fewer steps), and 0.3% at looser bounds, where the overfill
-  /// is the density (spot -n 16000 at 5%: 0.647 against 0.640 at 1%).
-  double birth_stop_share = -1;
+  int patience = 1500;          ///< steps without a birth at any site that mean the sites are blocked
+  /// Waves: pass 1 also ends when the births of the last `patience` steps
+  /// are at most this share of the particles. -1: automatic, 3% under a
+  /// bound below 1% of r (later births only overfill what the finish
+  /// deletes), 0.3% at looser bounds (where the overfill is the density).
+  double stop_share = -1;
   uint64_t max_steps = 0;       ///< step budget of pass 1; 0: 100 per expected particle + 20,000
+  KineticEnergySettings ke;     ///< the report's kinetic-energy test (stop = ke)
+  CollisionCountSettings collisions;  ///< the report's collision-count test (stop = collisions)
 
-  // Pass 2 and settling.
+  // ---- tuning: the dynamics ----
+  double damping = 0;           ///< velocity damping rate during passes 1-2
+  double time_step = 0.01;      ///< in units of the potential's time scale tau = sigma sqrt(m / eps)
+  double max_step = 0.1;        ///< top speed: no particle moves more than this many sigma a step
   int top_up_patience = 1500;   ///< pass 2 gives up after this many steps without a birth
   double rest_speed = 0.02;     ///< at rest: top speed below this fraction of the speed cap ...
   int rest_steps = 200;         ///< ... for this many steps
-  uint64_t settle_budget = 2000;
+  uint64_t settle_steps = 2000; ///< most steps of the settle (it ends sooner at rest)
 
-  // The finish (src/fill/finish.cpp): overlaps relaxed away by moving
-  // spheres, deletions only where that stalls, holes filled.
-  double max_overlap = 0.001;   ///< bound on every pair's overlap after the finish, fraction of r (0: none, below 1e-4 r); README says why 0.1%
+  // ---- tuning: the finish (src/fill/finish.cpp) ----
   double containment_tolerance = 0.01;  ///< allowed crossing of the surface, fraction of r
-  int void_rounds = 3;          ///< rounds of inserting spheres into holes (0: none)
-  double void_clearance = 0.95; ///< a hole takes a sphere when the nearest centre is this many rest distances away
+  int hole_rounds = 3;          ///< rounds of inserting spheres into empty pockets (0: none)
+  double hole_clearance = 0.95; ///< a pocket takes a sphere when the nearest centre is this many rest distances away
 
-  // Colour: from the surface (vertex colours, texture), by depth, none, or
-  // one colour. Empty: surface when the mesh has colours, else none.
-  std::optional<ColourOptions> colour;
-
-  // Machinery.
+  // ---- tuning: machinery ----
   double field_spacing = 0.33;  ///< signed distance grid spacing, in radii
   size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
-  double skin = 0;              ///< neighbour-list skin, in sigma (lists rebuild when a particle moved half of it); 0: the step form's automatic one (kCpuFormSkinSigma 0.5, kGpuFormSkinSigma 0.3)
-  int sync_every = 8;           ///< steps between reads of the step history
-  int sort_every = 256;         ///< steps between renumberings of the particles along the cells (0: never); every 256 rather than 1,024: pass 1 of spot -n 16000 took 15% less kernel time a step
-  std::string device;           ///< OpenCL device spec (index or name); "" = default
+  double skin = 0;              ///< neighbour-list skin, in sigma; 0: the step form's automatic one (0.5 on CPUs, 0.3 on GPUs)
+  int sync_every = 8;           ///< steps between reads of the step history (the report's schedule)
+  int sort_every = 256;         ///< steps between renumberings of the particles along the cells (0: never)
+
+  // ---- hooks (C++ and Python callers) ----
   std::function<void(const FillProgress&)> progress;
   /// Called with a line of what the fill chose for itself, e.g. the
   /// engine's automatic settings for the device (DeviceChoices::describe).
@@ -129,8 +135,8 @@ struct FillOptions {
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;
   /// Polled once the distance field is built, then at every host sync
-  /// (every `sync_every` steps, each relief round); when it returns true
-  /// the fill throws pfill::Cancelled. For Ctrl-C: cheap, must not throw.
+  /// (every `sync_every` steps, each relaxation); when it returns true the
+  /// fill throws pfill::Cancelled. For Ctrl-C: cheap, must not throw.
   std::function<bool()> cancelled;
 };
 
@@ -151,13 +157,16 @@ struct FillResult {
   std::string settle_reason;
   size_t lost_outside = 0;      ///< particles the boundary kernel flagged outside and removed
   size_t ke_events = 0, collision_events = 0;
-  size_t relief_removed = 0;    ///< deleted by the finish: no arrangement met the bound there (and any flagged outside)
-  size_t relief_forced = 0;     ///< of those: one of each pair still over the bound when the finish's rounds ran out
-  size_t relief_rounds = 0;     ///< the finish's relaxations
-  size_t voids_filled = 0;      ///< spheres the finish inserted into holes (some may have gone again)
+  size_t finish_removed = 0;    ///< deleted by the finish: no arrangement met the bound there (and any flagged outside)
+  size_t finish_forced = 0;     ///< of those: one of each pair still over the bound when the finish's rounds ran out
+  size_t finish_rounds = 0;     ///< the finish's relaxations
+  size_t holes_filled = 0;      ///< spheres the finish inserted into holes (some may have gone again)
   ContainmentRepair containment;
   std::vector<PassStats> passes;
   std::vector<BirthSite> sites;
+  /// Meshes of several parts: the closed parts of the inside the field
+  /// resolves, and how many of them are too small for a sphere (left empty).
+  size_t parts = 0, parts_too_small = 0;
   double field_seconds = 0;
   size_t field_bytes = 0;
   double field_spacing = 0;
@@ -174,11 +183,5 @@ struct FillResult {
 /// settings, a radius that does not fit, or a device that cannot hold it;
 /// pfill::Cancelled when FillOptions::cancelled returns true.
 FillResult fill(const Mesh& mesh, const FillOptions& options);
-
-/// Radius that gives about `count` particles in `volume` (enclosed by a
-/// surface of `area`: spheres pack looser along it) for a physics fill
-/// whose overlaps are bounded by `max_overlap` (a fraction of r; looser
-/// bounds pack denser).
-double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001);
 
 }  // namespace pfill

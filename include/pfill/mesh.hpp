@@ -60,6 +60,8 @@ struct Mesh {
   std::vector<uint32_t> triangle_materials;
 
   std::string source;  ///< file name or shape name, for messages
+  /// Faces load_mesh turned so that each part's winding agrees (orient_faces).
+  size_t turned_faces = 0;
 
   size_t vertex_count() const { return positions.size(); }
   size_t triangle_count() const { return triangles.size(); }
@@ -83,6 +85,14 @@ size_t weld_vertices(Mesh& mesh, double tolerance = 0.0);
 /// way is dropped, and a pair wound opposite ways (a sheet of no
 /// thickness) goes altogether, so ray crossings and the winding number
 /// count each face once. Returns the number of triangles removed.
+/// Where two triangles walk a shared edge the same way (inconsistent
+/// winding: the signed volume, and so the radius, would be wrong), turns
+/// faces so that each connected part agrees with itself and faces outward
+/// (inward for a part that others enclose: a cavity); parts that cannot be
+/// oriented (non-orientable) stay as they are. Returns how many faces it
+/// turned; 0 and no change for a consistent mesh. (src/mesh/orient_faces.cpp)
+size_t orient_faces(Mesh& mesh);
+
 size_t remove_duplicate_triangles(Mesh& mesh);
 
 /// Reverses the winding of every triangle (and its corner attributes), for

@@ -49,8 +49,5 @@ struct MeshDiagnostics {
 
 MeshDiagnostics diagnose(const Mesh& mesh);
 
-/// Radius r such that `count` spheres of radius r fill `volume` at the given
-/// packing fraction: count * 4/3 pi r^3 = packing * volume.
-double radius_for_count(double volume, double count, double packing = 0.6);
 
 }  // namespace pfill

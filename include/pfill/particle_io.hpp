@@ -60,6 +60,11 @@ struct ParticleWriteOptions {
   const ParticleAttributes* attributes = nullptr;
 };
 
+/// Whether float32 positions would move some sphere by more than 1e-5 of the
+/// smallest radius (far from the origin): PLY then stores doubles, GLB its
+/// points about their centre with the node's translation.
+bool positions_need_doubles(const ParticleSet& particles);
+
 /// Writes `particles` in the format named by the extension of `path`.
 void write_particles(const ParticleSet& particles, const std::filesystem::path& path,
                      const ParticleWriteOptions& options = {});
@@ -114,8 +119,19 @@ struct ParticleReadOptions {
   double default_radius = 0.0;
 };
 
-/// Reads a .ply or .csv file (by extension).
+/// Reads any particle file pfill writes (by extension: .ply .glb .csv .vtp
+/// .data .xyzr).
 ParticleSet read_particles(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+
+/// pfill's GLB: the POINTS primitive (POSITION, _RADIUS, _ID, COLOR_0,
+/// _VELOCITY), moved by its node's translation.
+ParticleSet read_glb(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+/// VTK PolyData as write_vtp writes it (ascii or appended raw, Float32/64).
+ParticleSet read_vtp(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+/// LAMMPS data, atom_style sphere: the Atoms section `id type diameter density x y z`.
+ParticleSet read_lammps_data(const std::filesystem::path& path, const ParticleReadOptions& options = {});
+/// Yade text: `x y z r [id ...]` lines after `#` comments.
+ParticleSet read_xyzr(const std::filesystem::path& path, const ParticleReadOptions& options = {});
 
 /// PLY in ascii, binary_little_endian or binary_big_endian; reads x y z and,
 /// where present, radius, red green blue (uchar, or float in [0,1]) and vx vy
@@ -128,7 +144,8 @@ ParticleSet read_ply(const std::filesystem::path& path, const ParticleReadOption
 ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOptions& options = {});
 
 /// Writes a fill as numbered PLY files DIR/frame_000000.ply, frame_000001.ply,
-/// ... one every `every` steps, each atomically; creates DIR. Each frame
+/// ... one every `every` steps, each atomically; creates DIR, and refuses a
+/// DIR that already holds frames (they would mix with the new ones). Each frame
 /// carries the particles' ids, so a particle can be followed across frames.
 class FrameWriter {
  public:

@@ -5,6 +5,11 @@
 
 namespace pfill {
 
+constexpr double kPi = 3.14159265358979323846;
+
+/// The volume of a sphere of radius r.
+constexpr double sphere_volume(double r) { return 4.0 / 3.0 * kPi * r * r * r; }
+
 struct Vec3 {
   double x = 0, y = 0, z = 0;
 

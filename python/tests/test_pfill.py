@@ -225,3 +225,57 @@ def test_devices_lists_one_default():
     devices = pfill.devices()
     assert devices and sum(d["default"] for d in devices) == 1
     assert all(d["name"] and d["compute_units"] >= 1 for d in devices)
+
+
+def _help_all_flags():
+    """The settings' flags `pfill fill --help-all` lists (the output options aside)."""
+    out = subprocess.run([CLI, "fill", "--help-all"], capture_output=True, text=True, check=True).stdout
+    flags = set()
+    for line in out.splitlines():
+        for word in line.split():
+            for part in word.split(","):
+                if part.startswith("--"):
+                    flags.add(part)
+    return flags
+
+
+def _doc_settings():
+    """The settings pfill.fill's docstring lists, one a line under 'Settings'."""
+    doc = pfill.fill.__doc__
+    lines = doc[doc.index("Settings (default in brackets):"):].splitlines()[1:]
+    return [line.split()[0] for line in lines if line.startswith("  ")]
+
+
+def test_one_name_per_setting_in_the_cli_python_and_the_docs():
+    names = _doc_settings()
+    assert len(names) > 30 and len(set(names)) == len(names)
+    flags = _help_all_flags()
+    for name in names:
+        assert "--" + name.replace("_", "-") in flags, name
+    # Every keyword is accepted by that name: None leaves each at its default,
+    # and the bad count last fails on its value, not on an unknown keyword.
+    settings = {name: None for name in names}
+    settings["count"] = -5
+    with pytest.raises(pfill.Error, match="count '-5' is out of range"):
+        pfill.fill("sphere", **settings)
+    with pytest.raises(pfill.Error, match="unknown keyword 'void_rounds'"):
+        pfill.fill("sphere", count=50, void_rounds=2)
+
+
+def test_the_short_help_lists_the_users_options_only():
+    out = subprocess.run([CLI, "fill", "--help"], capture_output=True, text=True, check=True).stdout
+    options = [line for line in out.splitlines() if line.lstrip().startswith("-")]
+    assert len(options) <= 25
+    assert "--max-overlap" in out and "--patience" not in out
+
+
+@pytest.mark.parametrize("settings, words", [
+    (dict(count=300, radius=0.05), "not both"),
+    (dict(count=300, birth=(math.nan, 0, 0)), "birth"),
+    (dict(radius=math.inf), "radius"),
+    (dict(count=True), "not True or False"),
+    (dict(count=300, exponents=(12, "x")), "exponents"),
+])
+def test_bad_settings_are_refused_before_the_fill(settings, words):
+    with pytest.raises(pfill.Error, match=words):
+        pfill.fill("sphere", **settings)

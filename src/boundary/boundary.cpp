@@ -9,10 +9,11 @@
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
-#include <mutex>
 #include <string>
 
+#include "boundary/embree_errors.hpp"
 #include "boundary/point_triangle.hpp"
+#include "boundary/spread_directions.hpp"
 #include "boundary/surface_normals.hpp"
 #include "pfill/error.hpp"
 #include "pfill/winding_sweep.hpp"
@@ -26,52 +27,14 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr float kEdgeBarycentric = 1e-5f;
 constexpr int kRecastAttempts = 12;
 
-const char* embree_error_name(RTCError code) {
-  switch (code) {
-    case RTC_ERROR_NONE: return "no error";
-    case RTC_ERROR_UNKNOWN: return "unknown error";
-    case RTC_ERROR_INVALID_ARGUMENT: return "invalid argument";
-    case RTC_ERROR_INVALID_OPERATION: return "invalid operation";
-    case RTC_ERROR_OUT_OF_MEMORY: return "out of memory";
-    case RTC_ERROR_UNSUPPORTED_CPU: return "unsupported CPU";
-    case RTC_ERROR_CANCELLED: return "cancelled";
-  }
-  return "unrecognised error";
+template <typename Out, typename F>
+std::vector<Out> parallel_map(const std::vector<Vec3>& points, F f) {
+  std::vector<Out> out(points.size());
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) out[i] = f(points[i]);
+  });
+  return out;
 }
-
-// Embree reports errors through a C callback, which must not throw: the
-// first message is kept here and thrown after the Embree call returns.
-struct EmbreeErrorLog {
-  std::mutex mutex;
-  std::string first;
-};
-
-void record_embree_error(void* user, RTCError code, const char* message) {
-  auto* log = static_cast<EmbreeErrorLog*>(user);
-  std::lock_guard<std::mutex> lock(log->mutex);
-  if (log->first.empty())
-    log->first = std::string(embree_error_name(code)) + (message ? std::string(": ") + message : std::string());
-}
-
-// Unit vectors spread over the sphere (golden spiral), then turned by a fixed
-// irrational rotation so none lies in an axis plane or along a mesh's
-// natural symmetry directions.
-std::vector<Vec3> spread_directions(int count, double offset) {
-  const double golden = 3.14159265358979323846 * (3.0 - std::sqrt(5.0));
-  const Vec3 axis = normalize(Vec3(1.0, std::sqrt(2.0), std::sqrt(3.0)));
-  const double angle = 1.0, cs = std::cos(angle), sn = std::sin(angle);
-  std::vector<Vec3> dirs;
-  for (int i = 0; i < count; ++i) {
-    const double z = 1.0 - (2.0 * i + 1.0) / count;
-    const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
-    const double phi = golden * i + offset;
-    const Vec3 d(r * std::cos(phi), r * std::sin(phi), z);
-    // Rodrigues rotation about `axis`.
-    dirs.push_back(normalize(d * cs + cross(axis, d) * sn + axis * (dot(axis, d) * (1 - cs))));
-  }
-  return dirs;
-}
-
 struct RayHit {
   float t;
   uint32_t triangle;
@@ -138,13 +101,9 @@ struct Boundary::Impl {
 
   void throw_if_embree_failed(const char* step) {
     const RTCError code = rtcGetDeviceError(device);
-    std::string message;
-    {
-      std::lock_guard<std::mutex> lock(errors->mutex);
-      message = errors->first;
-    }
-    if (code == RTC_ERROR_NONE && message.empty()) return;
-    if (message.empty()) message = embree_error_name(code);
+    const std::string first = errors->first_message();
+    if (code == RTC_ERROR_NONE && first.empty()) return;
+    const std::string message = first.empty() ? embree_error_name(code) : first;
     throw Error(mesh.source + ": Embree failed to " + step + " (" + message +
                 "); check the Embree installation and the mesh size");
   }
@@ -510,17 +469,6 @@ double Boundary::fast_signed_distance(const Vec3& p, double upper_bound, bool* u
   }
   return impl_->signed_from(impl_->search_anywhere(p, upper_bound), UINT32_MAX, used_parity);
 }
-
-namespace {
-template <typename Out, typename F>
-std::vector<Out> parallel_map(const std::vector<Vec3>& points, F f) {
-  std::vector<Out> out(points.size());
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t i = r.begin(); i != r.end(); ++i) out[i] = f(points[i]);
-  });
-  return out;
-}
-}  // namespace
 
 std::vector<uint8_t> Boundary::inside(const std::vector<Vec3>& points) const {
   return parallel_map<uint8_t>(points, [this](const Vec3& p) { return static_cast<uint8_t>(inside(p)); });

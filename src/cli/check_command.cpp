@@ -7,6 +7,7 @@
 #include "cli/contact_options.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
+#include "cli/number_checks.hpp"
 #include "cli/shell_report.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/mesh_diagnostics.hpp"
@@ -30,10 +31,11 @@ void add_check_command(CLI::App& app) {
   };
   auto a = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("check", "Measure a particle file against a mesh: packing, containment, overlaps");
-  cmd->add_option("particles", a->particles, "Particle file (.ply, .csv)")->required();
+  cmd->add_option("particles", a->particles, "Particle file (.ply .glb .csv .vtp .data .xyzr)")->required();
   cmd->add_option("mesh", a->mesh, "Mesh file, or a built-in shape name (torus, sphere, cube)")->required();
-  cmd->add_option("--radius", a->radius, "Radius for particle files that have none");
-  cmd->add_option("--tolerance", a->tolerance, "Allowed crossing of the surface, as a fraction of r")
+  cmd->add_option("--radius", a->radius, "Radius for particle files that have none")->check(positive_number());
+  cmd->add_option("--tolerance", a->tolerance, "Allowed crossing of the surface, as a fraction of r (0..1)")
+      ->check(number_in(0, 1))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Write the metrics as JSON on standard output");
   cmd->add_option("--pairs", a->pairs,
@@ -46,18 +48,23 @@ void add_check_command(CLI::App& app) {
                 "lies within half their radius of the surface): nearest-neighbour spacing and coverage");
   cmd->add_option("--min-inside", a->min_inside,
                   "Exit with status 3 unless at least this share of the spheres (0..1) lies inside")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_in(0, 1));
   cmd->add_option("--max-overlap", a->max_overlap,
                   "Exit with status 3 if any pair overlaps by more than this fraction of r")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0, 2));
   cmd->add_option("--min-packing", a->min_packing,
                   "Exit with status 3 unless the packing fraction is at least this")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_in(0, 1));
   cmd->callback([a]() {
     ParticleReadOptions ro;
     ro.default_radius = a->radius;
-    const ParticleSet particles = read_particles(a->particles, ro);
-    const Mesh mesh = load_mesh_argument(a->mesh);
+    ParticleSet particles = read_particles(a->particles, ro);
+    Mesh mesh = load_mesh_argument(a->mesh);
+    // Measured about the mesh's centre, as the fill works: far from the
+    // origin (1e9) the ray tracer's single precision would lose the surface.
+    const Vec3 centre = mesh.bounds().centre();
+    for (Vec3& p : mesh.positions) p -= centre;
+    for (Vec3& p : particles.positions) p -= centre;
     const Boundary boundary(mesh);
     MetricsOptions mo;
     mo.containment_tolerance = a->tolerance;

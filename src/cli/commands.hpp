@@ -18,7 +18,8 @@ struct ExitStatus {
 };
 
 /// `pfill fill [MESH] -o OUT [options]`: the main job; returns the subcommand
-CLI::App* add_fill_command(CLI::App& app);
+/// `show_all`: list the tuning options in --help too (`pfill fill --help-all`).
+CLI::App* add_fill_command(CLI::App& app, bool show_all = false);
 /// `pfill check PARTICLES MESH [--json]`
 void add_check_command(CLI::App& app);
 /// `pfill info MESH|--builtin NAME [--json]`

@@ -1,12 +1,19 @@
 // `pfill fill [MESH] -o OUT [options]`: the main job. Without a mesh it
 // fills a built-in shape and writes into the current folder.
+#include <fcntl.h>
 #include <unistd.h>
+
+#include <cctype>
+#include <cerrno>
+#include <cstring>
 
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <map>
+#include <optional>
 
 #include "cli/commands.hpp"
 #include "cli/contact_options.hpp"
@@ -20,6 +27,7 @@
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/fill_report.hpp"
+#include "pfill/fill_settings.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/render.hpp"
@@ -38,11 +46,7 @@ struct FillArgs {
   std::string preview;
   std::string frames;
   uint64_t frame_every = 500;
-  std::string birth;
-  std::string exponents = "12,6";
-  std::string stop = "blocked";
-  std::string colour;
-  std::string birth_speed;
+  std::map<std::string, std::string> settings;  // FillOptions by name (fill_settings.hpp), as typed
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
@@ -69,14 +73,14 @@ class ProgressPrinter {
     const bool new_phase = p.phase != phase_;
     phase_ = p.phase;
     last_ = now;
-    if (p.phase == "field") {  // nothing to count yet
+    if (p.phase == FillPhase::Field) {  // nothing to count yet
       if (new_phase) std::fprintf(stderr, "pfill: building the signed distance field\n");
       return;
     }
-    if (new_phase && !tty_) std::fprintf(stderr, "pfill: %s\n", p.phase.c_str());
+    if (new_phase && !tty_) std::fprintf(stderr, "pfill: %s\n", to_string(p.phase));
     char line[256];
     std::snprintf(line, sizeof line, "%-7s %9s particles (~%s when full)  KE %-9.3g pairs %-6u %7.0f steps/s  %5.0fs%s%s",
-                  p.phase.c_str(), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,
+                  to_string(p.phase), thousands(p.particles).c_str(), thousands(p.target).c_str(), p.kinetic_energy,
                   p.colliding_pairs, p.steps_per_second, p.elapsed,
                   p.remaining >= 0 ? ("  ~" + num(p.remaining, 2) + "s left").c_str() : "",
                   p.peak_memory > 0 ? ("  peak " + thousands(p.peak_memory >> 20) + " MiB").c_str() : "");
@@ -98,64 +102,93 @@ class ProgressPrinter {
   bool quiet_;
   bool tty_;
   bool open_ = false;
-  std::string phase_;
+  std::optional<FillPhase> phase_;  // none before the first line
   std::chrono::steady_clock::time_point last_{};
 };
 
-Vec3 parse_point(const std::string& text) {
-  Vec3 p;
-  char extra = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf,%lf%c", &p.x, &p.y, &p.z, &extra) != 3 || !is_finite(p))
-    throw Error("--birth '" + text + "': give three numbers X,Y,Z");
-  return p;
+// A setting out of range is bad usage (exit 2): one line naming the flag.
+[[noreturn]] void usage_error(const std::string& message) {
+  std::fprintf(stderr, "pfill: error: %s\n", excerpt(message, 600).c_str());
+  throw ExitStatus{kExitUsage};
 }
 
-void parse_exponents(const std::string& text, FillOptions& o) {
-  char extra = 0;
-  if (std::sscanf(text.c_str(), "%lf,%lf%c", &o.exponent_a, &o.exponent_b, &extra) != 2 ||
-      !(o.exponent_a > o.exponent_b && o.exponent_b > 0))
-    throw Error("--exponents '" + text + "': give A,B with A > B > 0 (default 12,6)");
-}
-
-// Fails before a long fill, not after it, when an output cannot be written.
-void check_output_folder(const std::string& path, const char* what) {
+// Fails before a long fill, not after it, when an output cannot be written:
+// a missing or unwritable folder (a read-only file system, /sys), a path
+// that is a folder. Probes the folder with a file of its own, removed at once.
+void check_output_path(const std::string& path, const char* what) {
   if (path.empty() || path == "-") return;  // "-": standard output
   const fs::path folder = fs::absolute(fs::path(path)).parent_path();
   std::error_code ec;
+  const std::string start = "cannot write " + std::string(what) + " '" + path + "': ";
   if (!fs::is_directory(folder, ec))
-    throw Error("cannot write " + std::string(what) + " '" + path + "': the folder " + folder.string() +
-                " does not exist; create it or choose another path");
+    throw Error(start + "the folder " + folder.string() + " does not exist; create it or choose another path");
+  if (fs::is_directory(fs::path(path), ec)) throw Error(start + "it is a folder; give a file name");
+  const fs::path probe = folder / (".pfill-probe-" + std::to_string(::getpid()));
+  const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) {
+    const int error = errno;
+    if (error != EEXIST)
+      throw Error(start + "the folder " + folder.string() + " is not writable (" + std::strerror(error) + ")");
+    return;
+  }
+  ::close(fd);
+  ::unlink(probe.c_str());
 }
 
-void run_fill(FillArgs& a) {
+// Options that do nothing for the chosen output say so (stderr, not an error).
+void warn_unused_options(const FillArgs& a, const CLI::App& cmd) {
+  const ParticleFormat f = particle_format_from_path(a.output);
+  auto warn = [](const std::string& what) { std::fprintf(stderr, "pfill: warning: %s\n", what.c_str()); };
+  if (cmd.count("--density") > 0 && f != ParticleFormat::LammpsData)
+    warn("--density applies to LAMMPS .data output only; ignored for " + a.output);
+  if (cmd.count("--every") > 0 && a.frames.empty()) warn("--every applies to --frames only; ignored");
+  if (a.spheres && f != ParticleFormat::Glb) warn("--spheres applies to .glb output only; ignored for " + a.output);
+  if (cmd.count("--attribute-names") > 0 && f != ParticleFormat::Ply && f != ParticleFormat::Csv && a.frames.empty())
+    warn("--attribute-names applies to .ply and .csv output only; ignored for " + a.output);
+}
+
+// The settings as the library takes them (the table's parsers), checked
+// before the mesh is read: a bad value is bad usage, named by its flag.
+void parse_settings(FillArgs& a, const CLI::App& cmd) {
+  try {
+    for (const FillSetting& setting : fill_settings())
+      if (cmd.count(setting.flag()) > 0) setting.set(a.options, a.settings[setting.name]);
+    if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+    check_fill_options(a.options);
+  } catch (const Error& e) {
+    usage_error(with_flags(e.what()));
+  }
+}
+
+void run_fill(FillArgs& a, const CLI::App& cmd) {
   const bool from_file = !a.mesh.empty();
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
-  refuse_clashing_paths({{"the mesh", a.mesh}},
-                        {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}, {"--pairs", a.contacts.pairs}},
+  parse_settings(a, cmd);
+  refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}, {"--pairs", a.contacts.pairs}},
                         {"--frames", a.frames});
-  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
-  check_output_folder(a.output, "the output");
   particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
+  if (!a.preview.empty()) {
+    std::string ext = fs::path(a.preview).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (ext != ".png") throw Error("--preview '" + a.preview + "': the preview is a PNG picture; give a .png path");
+  }
+  check_output_path(a.output, "the output");
+  check_output_path(a.preview, "the preview");
+  check_output_path(a.report, "the report");
+  for (const std::string* path : {&a.output, &a.preview, &a.report})  // left by a SIGKILL during a rename
+    if (!path->empty() && *path != "-") remove_stale_temporaries(*path);
+  warn_unused_options(a, cmd);
+  const Mesh mesh = from_file ? load_mesh_argument(a.mesh) : make_builtin(a.builtin);
+  if (mesh.turned_faces > 0 && !a.quiet)
+    std::fprintf(stderr, "pfill: warning: the winding was inconsistent: %s faces were turned to agree with their "
+                         "neighbours\n", thousands(mesh.turned_faces).c_str());
   ParticleWriteOptions wo;
   wo.spheres = a.spheres;
   wo.velocities = a.velocities;
   wo.names = parse_attribute_names(a.attribute_names);
   wo.density = a.density;
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
-  check_output_folder(a.preview, "the preview");
-  check_output_folder(a.report, "the report");
-  if (!a.birth.empty()) a.options.birth_point = parse_point(a.birth);
-  parse_exponents(a.exponents, a.options);
-  a.options.stop = parse_stop_criterion(a.stop);
-  if (!a.birth_speed.empty()) {
-    char extra = 0;
-    if (std::sscanf(a.birth_speed.c_str(), "%lf,%lf%c", &a.options.birth_speed_min, &a.options.birth_speed_max,
-                    &extra) != 2)
-      throw Error("--birth-speed '" + a.birth_speed + "': give MIN,MAX as fractions of the top speed (e.g. 0.2,0.5)");
-  }
-  if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
-  if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
   std::unique_ptr<ShellRun> shell;  // --shell: the fill in the mesh moved in by the shell's radius
   if (a.shell.shell) shell = std::make_unique<ShellRun>(a.shell, mesh, a.options);
 
@@ -178,8 +211,15 @@ void run_fill(FillArgs& a) {
     r = fill(shell ? shell->fill_mesh() : mesh, a.options);
   } catch (const Cancelled&) {
     defer_interrupts_to(nullptr);
-    std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
+    if (frames && frames->frames_written() > 0)
+      std::fprintf(stderr, "\npfill: interrupted: the fill stopped; %llu frames are in %s, no output was written\n",
+                   static_cast<unsigned long long>(frames->frames_written()), a.frames.c_str());
+    else
+      std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
     throw ExitStatus{128 + static_cast<int>(interrupted)};  // as a shell reports a process ended by that signal
+  } catch (const Error& e) {
+    defer_interrupts_to(nullptr);
+    throw Error(with_flags(e.what()));  // the library names its settings as C++ does
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
@@ -187,7 +227,8 @@ void run_fill(FillArgs& a) {
     shell->join(r);  // r.particles: the inner spheres, then the shell's
     wo.attributes = &shell->attributes();
   }
-  for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
+  for (const std::string& w : r.warnings)
+    std::fprintf(stderr, "pfill: warning: %s\n", with_flags(w).c_str());
 
   ContactResult contacts;  // after the fill, from its final particles
   if (a.contacts.wanted()) {
@@ -222,9 +263,9 @@ void run_fill(FillArgs& a) {
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
   std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
-              thousands(r.relief_rounds).c_str(), thousands(r.voids_filled).c_str(),
-              thousands(r.relief_removed).c_str(),
-              r.relief_forced ? (" (" + thousands(r.relief_forced) + " when the rounds ran out)").c_str() : "");
+              thousands(r.finish_rounds).c_str(), thousands(r.holes_filled).c_str(),
+              thousands(r.finish_removed).c_str(),
+              r.finish_forced ? (" (" + thousands(r.finish_forced) + " when the rounds ran out)").c_str() : "");
   std::printf("  removed         %s flagged outside, %s by the exact check (%s moved in)\n",
               thousands(r.lost_outside).c_str(), thousands(r.containment.removed).c_str(),
               thousands(r.containment.moved).c_str());
@@ -239,89 +280,30 @@ void run_fill(FillArgs& a) {
 
 }  // namespace
 
-CLI::App* add_fill_command(CLI::App& app) {
+CLI::App* add_fill_command(CLI::App& app, bool show_all) {
   auto a = std::make_shared<FillArgs>();
-  FillOptions& o = a->options;
   CLI::App* cmd = app.add_subcommand("fill", "Fill a mesh with particles (no mesh: a built-in shape)");
+  const std::string details = show_all ? "Output details" : "";  // shown by --help-all
+  cmd->add_flag("--help-all", "Also show the tuning options and the output details (all accepted always)");
   cmd->add_option("mesh", a->mesh,
                   "Mesh file: glTF/GLB, OBJ, STL, PLY, OFF, SMF, FBX, DAE, ...; or a built-in shape name (torus, "
                   "sphere, cube)");
   cmd->add_option("--builtin", a->builtin, "Built-in shape when no mesh is given: torus, sphere, cube")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_option("-o,--output", a->output,
                   "Output file; format from the extension: .ply .glb .csv .vtp, .data (LAMMPS read_data, "
                   "atom_style sphere), .xyzr (Yade ymport.text) (default NAME_particles.ply here)");
-  cmd->add_option("-r,--radius", o.radius, "Particle radius in mesh units")->check(positive_number());
-  cmd->add_option("-n,--count", o.count, "About this many particles (picks the radius, allowing for --rest-distance; default 4000)")
-      ->check(whole_number(1, SIZE_MAX));
-  cmd->add_option("--rest-distance", o.rest_distance,
-                  "Rest distance of the potential in contact distances 2r (>= 1; larger = sparser)")
-      ->capture_default_str();
-  cmd->add_option("--epsilon", o.epsilon, "Depth of the potential well")->capture_default_str();
-  cmd->add_option("--cutoff", o.cutoff, "Cutoff in sigma (e.g. 2.5) for the attractive form; 0 = purely repulsive")
-      ->capture_default_str();
-  cmd->add_option("--exponents", a->exponents, "Potential exponents A,B (repulsive, attractive)")
-      ->capture_default_str();
-  cmd->add_option("--restitution", o.restitution, "Particle-particle restitution, 0..1")->capture_default_str();
-  cmd->add_option("--wall-restitution", o.wall_restitution, "Particle-surface restitution, 0..1")
-      ->capture_default_str();
-  cmd->add_option("--damping", o.damping, "Velocity damping rate during the fill")->capture_default_str();
-  cmd->add_option("--time-step", o.time_step, "Time step in units of the potential's time scale tau")
-      ->capture_default_str();
-  cmd->add_option("--seed", o.seed, "Random seed (same seed, mesh, options and device: same particles)")
-      ->check(whole_number(0, UINT64_MAX))
-      ->capture_default_str();
-  cmd->add_option("--sites", o.sites,
-                  "Birth sites: -1 = automatic (waves from about 2,000 particles on, else 2 sites); 0 = births in "
-                  "waves over sites spread through the inside (one per --site-spacing); N = the deepest point, "
-                  "then far deep points (the report's schedule)")
-      ->capture_default_str();
-  cmd->add_option("--site-spacing", o.site_spacing, "Waves (--sites 0): sites at least this many rest distances apart")
-      ->capture_default_str();
-  cmd->add_option("--site-min-depth", o.site_min_depth, "Waves (--sites 0): sites at least this many radii inside")
-      ->capture_default_str();
-  cmd->add_option("--site-depth", o.site_depth_share,
-                  "Sites after the first lie at least this share of the deepest point's depth inside")
-      ->capture_default_str();
-  cmd->add_option("--birth-every", o.birth_every,
-                  "Steps between birth attempts at each site (0 = automatic: 48 for waves, 3 with --sites N)")
-      ->capture_default_str();
-  cmd->add_option("--birth-clearance", o.birth_clearance,
-                  "A site has room when no centre is within this many rest distances (0 = automatic: 0.55 for waves, 0.5 with --sites N)")
-      ->capture_default_str();
-  cmd->add_option("--birth-speed", a->birth_speed, "Newborn speed range MIN,MAX, fractions of the top speed (default 0.3,0.6)");
-  cmd->add_option("--max-step", o.max_step_fraction, "Top speed: the most a particle moves in a step, in sigma")
-      ->capture_default_str();
-  cmd->add_option("--birth", a->birth, "First birth site X,Y,Z (must be inside; default the deepest point)");
-  cmd->add_option("--stop", a->stop, "What ends pass 1: blocked (sites full), ke (kinetic energy), collisions")
-      ->capture_default_str();
-  cmd->add_option("--patience", o.blocked.patience, "Steps with no birth that mean the sites are blocked")
-      ->capture_default_str();
-  cmd->add_option("--stop-share", o.birth_stop_share,
-                  "Waves (--sites 0): pass 1 also ends when the births of the last --patience steps are at most "
-                  "this share of the particles (-1 = automatic: 0.03 under a --max-overlap below 0.01, else 0.003)")
-      ->capture_default_str();
-  cmd->add_option("--max-steps", o.max_steps,
-                  "Step budget of pass 1 (0 = automatic: 100 a particle + 20,000); when it runs out, pass 1 ends "
-                  "with what is in (for trials of large fills)")
-      ->capture_default_str();
-  cmd->add_option("--settle-steps", o.settle_budget, "Most steps of the settle pass (it ends sooner at rest)")
-      ->capture_default_str()
-      ->check(whole_number(1, UINT64_MAX));
-  cmd->add_option("--void-rounds", o.void_rounds, "Rounds of inserting spheres into holes in the finish")
-      ->capture_default_str();
-  cmd->add_option("--void-clearance", o.void_clearance,
-                  "A hole takes a sphere when the nearest centre is this many rest distances away")
-      ->capture_default_str();
-  cmd->add_option("--max-overlap", o.max_overlap, "Largest overlap of any pair after the finish, fraction of r (0: none)")
-      ->capture_default_str();
-  cmd->add_option("--colour", a->colour,
-                  "Particle colours: surface (the mesh's colours/texture), depth, none or #RRGGBB "
-                  "(default: surface when the mesh has colours, else none)");
-  cmd->add_option("--skin", o.skin, "Neighbour-list skin in sigma; 0 = automatic (0.5 on CPUs, 0.3 on GPUs)")->capture_default_str();
-  cmd->add_option("--sync-every", o.sync_every, "Steps between reads of the step history and positions")
-      ->capture_default_str();
-  cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
+  // Every FillOptions setting from the table, by its one name; the
+  // tuning ones only in `pfill fill --help-all` (still accepted always).
+  for (const FillSetting& setting : fill_settings()) {
+    const std::string flags = (setting.short_flag.empty() ? "" : setting.short_flag + ",") + setting.flag();
+    const std::string shown = setting.get(FillOptions{});
+    CLI::Option* opt = cmd->add_option(flags, a->settings[setting.name],
+                                       setting.help + (shown.empty() ? "" : " [" + shown + "]"));
+    opt->type_name(setting.value_form);
+    opt->group(setting.tier == SettingTier::User ? "Options" : show_all ? "Tuning" : "");
+  }
   cmd->add_option("--report", a->report,
                   "Write the metrics and the run's figures as JSON to this file (- : standard output, instead of "
                   "the summary)");
@@ -330,30 +312,35 @@ CLI::App* add_fill_command(CLI::App& app) {
   cmd->add_option("--frames", a->frames, "Write the fill as numbered PLY frames into this folder");
   cmd->add_option("--every", a->frame_every, "Steps between frames")
       ->check(whole_number(1, UINT64_MAX))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_flag("--spheres", a->spheres, "GLB: an instanced low-poly sphere per particle");
   cmd->add_flag("--velocities", a->velocities,
                 "Write each particle's last velocity (PLY/CSV vx vy vz, VTP velocity, GLB _VELOCITY, LAMMPS "
-                "Velocities, xyzr columns 6-8), also in --frames");
+                "Velocities, xyzr columns 6-8), also in --frames")
+      ->group(details);
   cmd->add_option("--attribute-names", a->attribute_names,
                   "PLY and CSV attribute names: pfill (radius, red green blue, vx vy vz, id) or houdini "
                   "(pscale, Cd.r Cd.g Cd.b as floats 0..1, v.x v.y v.z, id)")
       ->check(CLI::IsMember({"pfill", "houdini"}))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details);
   cmd->add_option("--density", a->density, "LAMMPS .data: every particle's density (mass per volume, in the "
                                            "units of your LAMMPS run)")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+      ->check(positive_number())
+      ->capture_default_str()
+      ->group(details);
   add_contact_options(cmd, a->contacts, true);
   add_shell_options(cmd, a->shell);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
-  cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)");
+  cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)")
+      ->group(details);
   cmd->callback([a, cmd]() {
     if (!a->mesh.empty() && cmd->count("--builtin") > 0)
       throw Error("give a mesh file or --builtin NAME, not both");
     if (cmd->count("--radius") > 0 && cmd->count("--count") > 0)
       throw Error("give -r (the radius) or -n (a count, which picks the radius), not both");
-    run_fill(*a);
+    run_fill(*a, *cmd);
   });
   return cmd;
 }

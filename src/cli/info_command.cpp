@@ -7,6 +7,8 @@
 #include "cli/commands.hpp"
 #include "cli/format.hpp"
 #include "cli/mesh_argument.hpp"
+#include "pfill/count_rule.hpp"
+#include "pfill/fill.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/shapes.hpp"
@@ -20,8 +22,13 @@ struct InfoOptions {
   bool json = false;
 };
 
-const double kCounts[] = {1e3, 1e4, 1e5, 1e6};
-constexpr double kPacking = 0.6;
+const size_t kCounts[] = {1000, 10000, 100000, 1000000};
+
+/// The radius `pfill fill -n count` chooses at its defaults (the count rule).
+double radius_for(const MeshDiagnostics& d, size_t count) {
+  const FillOptions defaults;
+  return fill_radius_for_count(d.volume(), d.surface_area, count, defaults.max_overlap) / defaults.rest_distance;
+}
 
 // What a fill will do with a mesh that is not a clean closed surface.
 std::vector<std::string> warnings(const MeshDiagnostics& d) {
@@ -38,8 +45,8 @@ std::vector<std::string> warnings(const MeshDiagnostics& d) {
     w.push_back("the mesh is inside-out (negative volume): a fill will reverse its orientation and go on");
   if (d.misoriented_edges > 0)
     w.push_back(thousands(d.misoriented_edges) +
-                " edges join triangles of opposite winding: the volume is unreliable; a fill uses ray parity, "
-                "which does not depend on winding");
+                " edges join triangles of opposite winding that pfill could not turn to agree (a non-orientable "
+                "surface?): the volume, and a radius from a count, are unreliable; repair the mesh");
   if (d.overlapping())
     w.push_back(std::string(d.components > 1 ? "parts intersect or lie inside one another" : "the surface intersects itself") +
                 " (some region is enclosed " + (d.winding->min_winding < 0 ? "inside out" : "twice") +
@@ -53,8 +60,12 @@ std::vector<std::string> warnings(const MeshDiagnostics& d) {
 
 nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d) {
   nlohmann::ordered_json radii = nlohmann::ordered_json::array();
-  for (double n : kCounts)
-    radii.push_back({{"count", n}, {"radius", radius_for_count(d.volume(), n, kPacking)}});
+  for (size_t n : kCounts) {
+    const double r = radius_for(d, n);
+    radii.push_back({{"count", n},
+                     {"radius", r},
+                     {"packing_fraction", r > 0 ? expected_packing(FillOptions{}.max_overlap, d.surface_area * r / d.volume()) : 0.0}});
+  }
   return {
       {"mesh", name},
       {"vertices", d.vertices},
@@ -76,7 +87,6 @@ nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d
       {"inside_out", d.inside_out()},
       {"surface_area", d.surface_area},
       {"genus", d.genus ? nlohmann::ordered_json(*d.genus) : nlohmann::ordered_json(nullptr)},
-      {"packing_fraction_assumed", kPacking},
       {"radius_for_count", radii},
       {"warnings", warnings(d)},
   };
@@ -105,10 +115,9 @@ void print_text(const std::string& name, const MeshDiagnostics& d) {
                     (d.boundary_loops ? "  estimated with the holes capped" : ""));
   row("area", num(d.surface_area));
   row("genus", d.genus ? std::to_string(*d.genus) : "- (not closed)");
-  std::printf("  radius for about N particles (packing fraction %.1f):\n", kPacking);
-  for (double n : kCounts)
-    std::printf("  %13s %s\n", thousands(static_cast<unsigned long long>(n)).c_str(),
-                num(radius_for_count(d.volume(), n, kPacking)).c_str());
+  std::printf("  radius for about N particles (as `pfill fill -n N` chooses it):\n");
+  for (size_t n : kCounts)
+    std::printf("  %13s %s\n", thousands(static_cast<unsigned long long>(n)).c_str(), num(radius_for(d, n)).c_str());
 }
 
 }  // namespace
@@ -130,6 +139,9 @@ void add_info_command(CLI::App& app) {
     } else {
       print_text(mesh.source, d);
     }
+    if (mesh.turned_faces > 0)
+      std::cerr << "pfill: warning: the winding was inconsistent: " << thousands(mesh.turned_faces)
+                << " faces were turned to agree with their neighbours (a fill does the same)\n";
     for (const std::string& w : warnings(d)) std::cerr << "pfill: warning: " << w << "\n";
   });
 }

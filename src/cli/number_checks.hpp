@@ -8,6 +8,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <string>
 
@@ -39,6 +40,23 @@ inline CLI::Validator positive_number() {
         return "";
       },
       "POSITIVE", "positive_number");
+}
+
+/// A finite number in [lo, hi] (CLI11's Range lets NaN through: a NaN
+/// threshold could never fail).
+inline CLI::Validator number_in(double lo, double hi) {
+  return CLI::Validator(
+      [lo, hi](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(v) || v < lo || v > hi) {
+          char range[64];
+          std::snprintf(range, sizeof range, "%g..%g", lo, hi);
+          return "'" + text + "' is not a number in " + range;
+        }
+        return "";
+      },
+      "NUMBER", "number_in");
 }
 
 }  // namespace pfill::cli

@@ -23,7 +23,7 @@ void add_shell_options(CLI::App* cmd, ShellArgs& a) {
 ShellRun::ShellRun(const ShellArgs& a, const Mesh& mesh, FillOptions& o) : boundary_(mesh) {
   if (o.radius <= 0) {
     const MeshDiagnostics d = diagnose(mesh);
-    o.radius = fill_radius_for_count(d.volume(), d.surface_area, o.count, o.max_overlap);
+    o.radius = fill_radius_for_count(d.volume(), d.surface_area, o.count, o.max_overlap, o.rest_distance);
     o.count = 0;
   }
   inner_radius_ = o.radius;

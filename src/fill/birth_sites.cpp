@@ -158,4 +158,64 @@ bool RoomGrid::has_room(const Vec3& site) const {
   return true;
 }
 
+PartSites add_sites_per_part(const ScalarGrid& sdf, double min_depth, std::vector<BirthSite>& sites) {
+  PartSites out;
+  const int nx = sdf.dims[0], ny = sdf.dims[1], nz = sdf.dims[2];
+  const size_t n = sdf.values.size();
+  if (n == 0 || static_cast<size_t>(nx) * ny * nz != n) return out;
+  constexpr uint32_t kNone = 0xffffffffu;
+  std::vector<uint32_t> label(n, kNone);
+  std::vector<size_t> deepest;  // per part
+  std::vector<size_t> stack;
+  for (size_t seed = 0; seed < n; ++seed) {
+    if (label[seed] != kNone || !(sdf.values[seed] < 0)) continue;
+    const auto part = static_cast<uint32_t>(deepest.size());
+    deepest.push_back(seed);
+    label[seed] = part;
+    stack.assign(1, seed);
+    while (!stack.empty()) {
+      const size_t c = stack.back();
+      stack.pop_back();
+      if (sdf.values[c] < sdf.values[deepest[part]] || (sdf.values[c] == sdf.values[deepest[part]] && c < deepest[part]))
+        deepest[part] = c;
+      const int i = static_cast<int>(c % nx), j = static_cast<int>((c / nx) % ny),
+                k = static_cast<int>(c / (static_cast<size_t>(nx) * ny));
+      const int step[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+      for (const auto& d : step) {
+        const int a = i + d[0], b = j + d[1], e = k + d[2];
+        if (a < 0 || b < 0 || e < 0 || a >= nx || b >= ny || e >= nz) continue;
+        const size_t m = sdf.index(a, b, e);
+        if (label[m] == kNone && sdf.values[m] < 0) {
+          label[m] = part;
+          stack.push_back(m);
+        }
+      }
+    }
+  }
+  out.parts = deepest.size();
+  std::vector<char> has_site(deepest.size(), 0);
+  for (const BirthSite& s : sites) {
+    const Vec3 q = (s.position - sdf.origin) / sdf.spacing;
+    const int i = static_cast<int>(std::lround(q.x)), j = static_cast<int>(std::lround(q.y)),
+              k = static_cast<int>(std::lround(q.z));
+    if (i < 0 || j < 0 || k < 0 || i >= nx || j >= ny || k >= nz) continue;
+    const uint32_t part = label[sdf.index(i, j, k)];
+    if (part != kNone) has_site[part] = 1;
+  }
+  for (size_t part = 0; part < deepest.size(); ++part) {
+    if (has_site[part]) continue;
+    const size_t c = deepest[part];
+    const double depth = -static_cast<double>(sdf.values[c]);
+    if (depth < min_depth) {
+      ++out.too_small;
+      continue;
+    }
+    sites.push_back({sdf.point(static_cast<int>(c % nx), static_cast<int>((c / nx) % ny),
+                               static_cast<int>(c / (static_cast<size_t>(nx) * ny))),
+                     depth});
+    ++out.added;
+  }
+  return out;
+}
+
 }  // namespace pfill

@@ -38,10 +38,10 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"stop_reason", r.stop_reason},
           {"settle_reason", r.settle_reason},
           {"lost_outside", r.lost_outside},
-          {"relief_removed", r.relief_removed},
-          {"relief_forced", r.relief_forced},
-          {"relief_rounds", r.relief_rounds},
-          {"voids_filled", r.voids_filled},
+          {"finish_removed", r.finish_removed},
+          {"finish_forced", r.finish_forced},
+          {"finish_rounds", r.finish_rounds},
+          {"holes_filled", r.holes_filled},
           {"containment_moved", r.containment.moved},
           {"containment_removed", r.containment.removed},
           {"passes", passes},
@@ -50,6 +50,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"peak_memory_bytes", r.peak_memory},
           {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
           {"sites", sites},
+          {"parts", {{"closed", r.parts}, {"too_small", r.parts_too_small}}},
           {"warnings", r.warnings}};
 }
 

@@ -79,6 +79,8 @@ class Finisher {
     engine_->add_particles(ps);
     std::vector<Particle>().swap(ps);  // on the device now
     int holes_done = 0;
+    bool compressing = s_.compress_clearance > 0;
+    size_t last_inserted = 0, deleted_since_insert = 0;
     ParticleSet now;
     for (int round = 0;; ++round) {
       const bool stalled = relax();
@@ -95,16 +97,26 @@ class Finisher {
         // (deleting then cost the bunny at r 0.012253, seed 1, 2% of its
         // packing); but a few pairs left that fall slowly go at once.
         if (!stalled && static_cast<double>(over) > s_.run_on_share * static_cast<double>(now.size())) continue;
+        const size_t removed_before = stats_.removed;
         remove_most_compressed(now, overlaps);
+        // Compressing ends where it deletes half of what it inserts: the
+        // packing is then as full as the bound allows.
+        deleted_since_insert += stats_.removed - removed_before;
+        if (2 * deleted_since_insert > last_inserted) compressing = false;
         continue;
       }
-      if (holes_done >= s_.hole_rounds || round + 1 >= s_.max_rounds) break;
-      const std::vector<Vec3> holes = find_holes(now, field_, deep_, s_.hole_clearance * s_.radius, now.size());
+      if ((!compressing && holes_done >= s_.hole_rounds) || round + 1 >= s_.max_rounds) break;
+      const double clearance = compressing ? s_.compress_clearance : s_.hole_clearance;
+      const std::vector<Vec3> holes = find_holes(now, field_, deep_, clearance * s_.radius, now.size());
       // A round of a few holes does not pay for its relaxation (each takes
       // about 1,500 steps to settle, whatever the number of newcomers): the
       // fit pass below takes those a sphere fits in as they are.
-      if (static_cast<double>(holes.size()) < s_.hole_round_share * static_cast<double>(now.size())) break;
-      ++holes_done;
+      if (static_cast<double>(holes.size()) < s_.hole_round_share * static_cast<double>(now.size())) {
+        if (!compressing) break;
+        compressing = false;  // compressed: the ordinary holes next
+        continue;
+      }
+      if (!compressing) ++holes_done;
       std::vector<Particle> newcomers(holes.size());
       for (size_t k = 0; k < holes.size(); ++k) {
         newcomers[k].position = holes[k];
@@ -113,6 +125,8 @@ class Finisher {
       }
       engine_->add_particles(newcomers);
       stats_.inserted += holes.size();
+      last_inserted = holes.size();
+      deleted_since_insert = 0;
     }
     // Holes a sphere fits in without overlap (a deletion after the last
     // insertion may leave one) take one as they are: nothing to relax.

@@ -9,7 +9,7 @@ StopCriterion parse_stop_criterion(const std::string& text) {
   if (text == "blocked") return StopCriterion::Blocked;
   if (text == "ke") return StopCriterion::KineticEnergy;
   if (text == "collisions") return StopCriterion::Collisions;
-  throw Error("--stop '" + text + "': choose blocked, ke or collisions");
+  throw Error("stop '" + text + "': choose blocked, ke or collisions");
 }
 
 const char* to_string(StopCriterion c) {

@@ -5,27 +5,27 @@
 
 namespace pfill {
 
-double TimeLeft::estimate(const std::string& phase, double elapsed, size_t particles, uint64_t step,
+double TimeLeft::estimate(FillPhase phase, double elapsed, size_t particles, uint64_t step,
                           uint64_t finish_steps) {
-  const bool pass1 = phase == "pass 1", births = pass1 || phase == "pass 2";
-  if (!births && phase != "settle" && phase != "finish") return -1;
+  const bool pass1 = phase == FillPhase::Pass1, births = pass1 || phase == FillPhase::Pass2;
+  if (!births && phase != FillPhase::Settle && phase != FillPhase::Finish) return -1;
   samples_.push_back({elapsed, particles, step});
   while (samples_.size() > 2 && elapsed - samples_[1].elapsed > 30) samples_.pop_front();
   const double finished = static_cast<double>(finish_steps);
-  if (phase == "finish" && finished >= kFinishSteps) return -1;
-  if (phase == "finish" && finished >= 0.1 * kFinishSteps)
+  if (phase == FillPhase::Finish && finished >= kFinishSteps) return -1;
+  if (phase == FillPhase::Finish && finished >= 0.1 * kFinishSteps)
     return (kFinishSteps - finished) * (elapsed - finish_start_) / finished;
   // The finish's first steps: its start (a new engine, the particles
   // uploaded and sorted, a round's host work) would pass for slow steps.
-  if (phase == "finish" && settle_step_ > 0) return (kFinishSteps - finished) * kFinishStepCost * settle_step_;
+  if (phase == FillPhase::Finish && settle_step_ > 0) return (kFinishSteps - finished) * kFinishStepCost * settle_step_;
   const Sample& first = samples_.front();
   if (elapsed - first.elapsed < 2 || step <= first.step || particles == 0) return -1;
   const double n = static_cast<double>(particles);
   const double per_step = (elapsed - first.elapsed) / static_cast<double>(step - first.step);
   const double full = std::max(n, kOverfill * s_.expected);
-  if (phase == "settle") settle_step_ = per_step * full / n;
-  const double settled = phase == "settle" ? static_cast<double>(step - settle_start_) : 0;
-  const double settle_left = phase == "finish" ? 0 : std::max(0.0, s_.settle_budget - settled);
+  if (phase == FillPhase::Settle) settle_step_ = per_step * full / n;
+  const double settled = phase == FillPhase::Settle ? static_cast<double>(step - settle_start_) : 0;
+  const double settle_left = phase == FillPhase::Finish ? 0 : std::max(0.0, s_.settle_budget - settled);
   const double after = (settle_left + kFinishStepCost * (kFinishSteps - finished)) * per_step * full / n *
                        (births ? kSettleStepCost : 1.0);
   if (!pass1) return after;

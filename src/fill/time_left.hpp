@@ -4,7 +4,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
-#include <string>
+
+#include "pfill/fill.hpp"
 
 namespace pfill {
 
@@ -39,7 +40,7 @@ class TimeLeft {
 
   /// `step` counts every step of the fill, the finish's included;
   /// `finish_steps` the finish's alone.
-  double estimate(const std::string& phase, double elapsed, size_t particles, uint64_t step, uint64_t finish_steps);
+  double estimate(FillPhase phase, double elapsed, size_t particles, uint64_t step, uint64_t finish_steps);
 
   /// Steps until pass 1 ends, with `births` a step now and `gap` births to
   /// go to the full count, among `particles` (see time_left.cpp).

@@ -7,27 +7,10 @@
 #include <tbb/parallel_for.h>
 
 #include "fill/centre_grid.hpp"
+#include "fill/hole_climb.hpp"
+#include "pfill/sdf.hpp"
 
 namespace pfill {
-namespace {
-
-/// Trilinear sample of `g` at p (clamped to the grid's box).
-double sample(const ScalarGrid& g, const Vec3& p) {
-  const Vec3 q = (p - g.origin) / g.spacing;
-  const double gx = std::clamp(q.x, 0.0, g.dims[0] - 1.0), gy = std::clamp(q.y, 0.0, g.dims[1] - 1.0),
-               gz = std::clamp(q.z, 0.0, g.dims[2] - 1.0);
-  const int i = std::min(static_cast<int>(gx), g.dims[0] - 2), j = std::min(static_cast<int>(gy), g.dims[1] - 2),
-            k = std::min(static_cast<int>(gz), g.dims[2] - 2);
-  const double tx = gx - i, ty = gy - j, tz = gz - k;
-  auto lerp = [](double a, double b, double t) { return a + (b - a) * t; };
-  const double a00 = lerp(g.at(i, j, k), g.at(i + 1, j, k), tx), a10 = lerp(g.at(i, j + 1, k), g.at(i + 1, j + 1, k), tx);
-  const double a01 = lerp(g.at(i, j, k + 1), g.at(i + 1, j, k + 1), tx),
-               a11 = lerp(g.at(i, j + 1, k + 1), g.at(i + 1, j + 1, k + 1), tx);
-  return lerp(lerp(a00, a10, ty), lerp(a01, a11, ty), tz);
-}
-
-}  // namespace
-
 std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
                              size_t limit) {
   std::vector<Vec3> holes;
@@ -68,28 +51,13 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
   std::stable_sort(cands.begin(), cands.end(), [](const Candidate& a, const Candidate& b) { return a.d > b.d; });
   // ... climbed to where the nearest centre is farthest (staying r deep), and
   // taken, largest first, where that reaches the clearance.
-  static const Vec3 dirs[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1},
-                              {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {1, -1, -1}, {-1, 1, 1}, {-1, 1, -1},
-                              {-1, -1, 1}, {-1, -1, -1}};
   uint32_t next_id = static_cast<uint32_t>(particles.size());
   for (const Candidate& c : cands) {
     if (holes.size() >= limit) break;
     Vec3 p = c.p;
-    double d = nearest(p);
-    if (d < clearance - miss) continue;  // a hole taken since
-    for (double step = 0.5 * sdf.spacing; step > 0.005 * radius;) {
-      bool moved = false;
-      for (const Vec3& dir : dirs) {
-        const Vec3 q = p + dir * (step / length(dir));
-        const double dq = nearest(q);
-        if (dq > d && -sample(sdf, q) >= radius) {
-          p = q;
-          d = dq;
-          moved = true;
-        }
-      }
-      if (!moved) step *= 0.5;
-    }
+    if (nearest(p) < clearance - miss) continue;  // a hole taken since
+    const double d = climb_to_hole_centre(p, 0.5 * sdf.spacing, 0.005 * radius, nearest,
+                                          [&](const Vec3& q) { return -sample(sdf, q) >= radius; });
     if (d < clearance) continue;
     holes.push_back(p);
     grid.insert(p, next_id++);

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cerrno>
+#include <cstdlib>
 #include <csignal>
 #include <cstring>
 #include <system_error>
@@ -75,6 +76,13 @@ fs::path folder_of(const fs::path& target) {
 
 AtomicFile::AtomicFile(fs::path target) : target_(std::move(target)) {
   if (target_.filename().empty()) fail("the path names no file");
+  {  // A symbolic link stays one: the file it points to is what gets replaced.
+    std::error_code ec;
+    if (fs::is_symlink(target_, ec)) {
+      const fs::path resolved = fs::weakly_canonical(target_, ec);
+      if (!ec && !resolved.filename().empty()) target_ = resolved;
+    }
+  }
   const fs::path folder = folder_of(target_);
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
@@ -177,6 +185,28 @@ void write_file_atomically(const fs::path& target, const std::function<void(Atom
   AtomicFile file(target);
   fill(file);
   file.commit();
+}
+
+size_t remove_stale_temporaries(const fs::path& target) {
+  const std::string prefix = "." + target.filename().string() + ".tmp";
+  std::error_code ec;
+  fs::path folder = target.parent_path();
+  if (folder.empty()) folder = ".";
+  size_t removed = 0;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.compare(0, prefix.size(), prefix) != 0) continue;
+    // PID-K after the prefix, digits only.
+    const std::string rest = name.substr(prefix.size());
+    const size_t dash = rest.find('-');
+    if (dash == 0 || dash == std::string::npos || rest.find_first_not_of("0123456789-") != std::string::npos) continue;
+    const long pid = std::strtol(rest.substr(0, dash).c_str(), nullptr, 10);
+    if (pid <= 0 || pid == static_cast<long>(::getpid())) continue;
+    if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno != ESRCH) continue;  // alive, or not ours to judge
+    std::error_code remove_error;
+    if (fs::remove(it->path(), remove_error)) ++removed;
+  }
+  return removed;
 }
 
 }  // namespace pfill

@@ -164,8 +164,12 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
 
   std::vector<float> positions, radii, colours, ids, velocities;
   positions.reserve(particles.size() * 3);
+  // POSITION is float32: far from the origin the points are stored about
+  // their box's centre and the nodes carry it as their translation (doubles
+  // in the JSON), which every glTF reader applies.
+  const Vec3 origin = positions_need_doubles(particles) ? particles.bounds().centre() : Vec3{};
   for (const Vec3& p : particles.positions)
-    positions.insert(positions.end(), {float(p.x), float(p.y), float(p.z)});
+    positions.insert(positions.end(), {float(p.x - origin.x), float(p.y - origin.y), float(p.z - origin.z)});
   radii.assign(particles.radii.begin(), particles.radii.end());
   for (size_t i = 0; i < particles.size(); ++i) ids.push_back(static_cast<float>(particles.id(i)));
   if (options.velocities)
@@ -206,10 +210,13 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
     tinygltf::Node node;
     node.name = "particles";
     node.mesh = 0;
+    if (origin.x != 0 || origin.y != 0 || origin.z != 0) node.translation = {origin.x, origin.y, origin.z};
     model.nodes.push_back(node);
     model.scenes[0].nodes.push_back(0);
-    if (options.spheres)
+    if (options.spheres) {
       add_sphere_instances(model, builder, particles, positions, colours, options.sphere_subdivisions);
+      model.nodes.back().translation = model.nodes[0].translation;
+    }
   }
   model.buffers[0].data.resize((model.buffers[0].data.size() + 3) / 4 * 4, 0);
   if (model.buffers[0].data.empty()) model.buffers.clear();  // a buffer must not be empty

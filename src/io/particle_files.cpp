@@ -1,5 +1,6 @@
 // Choosing a particle format by extension, and the frame sequence of a fill.
 #include <algorithm>
+#include <cmath>
 #include <cctype>
 #include <cstdio>
 #include <system_error>
@@ -25,6 +26,13 @@ ParticleFormat particle_format_from_path(const fs::path& path) {
               "' (use .ply, .glb, .csv, .vtp, .data for LAMMPS or .xyzr for Yade)");
 }
 
+bool positions_need_doubles(const ParticleSet& particles) {
+  double far = 0, smallest = HUGE_VAL;
+  for (const Vec3& p : particles.positions) far = std::max({far, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+  for (double r : particles.radii) smallest = std::min(smallest, r);
+  return far * 0x1p-24 > 1e-5 * smallest;
+}
+
 AttributeNames parse_attribute_names(const std::string& text) {
   if (text == "pfill") return AttributeNames::Pfill;
   if (text == "houdini") return AttributeNames::Houdini;
@@ -46,9 +54,15 @@ void write_particles(const ParticleSet& particles, const fs::path& path,
 
 ParticleSet read_particles(const fs::path& path, const ParticleReadOptions& options) {
   const ParticleFormat format = particle_format_from_path(path);
-  if (format == ParticleFormat::Ply) return read_ply(path, options);
-  if (format == ParticleFormat::Csv) return read_csv(path, options);
-  throw Error("cannot read '" + path.string() + "': pfill reads particles from .ply and .csv files only");
+  switch (format) {
+    case ParticleFormat::Ply: return read_ply(path, options);
+    case ParticleFormat::Csv: return read_csv(path, options);
+    case ParticleFormat::Glb: return read_glb(path, options);
+    case ParticleFormat::Vtp: return read_vtp(path, options);
+    case ParticleFormat::LammpsData: return read_lammps_data(path, options);
+    case ParticleFormat::Xyzr: return read_xyzr(path, options);
+  }
+  throw Error("cannot read '" + path.string() + "': unknown particle format");
 }
 
 FrameWriter::FrameWriter(fs::path dir, uint64_t every, ParticleWriteOptions options)
@@ -59,6 +73,12 @@ FrameWriter::FrameWriter(fs::path dir, uint64_t every, ParticleWriteOptions opti
   if (ec || !fs::is_directory(dir_))
     throw Error("cannot create the frames folder '" + dir_.string() + "': " +
                 (ec ? ec.message() : std::string("a file of that name exists")));
+  // Frames of an earlier run would stay beside the new ones (and `pfill
+  // render DIR` would show them as one sequence): refuse, before the fill.
+  const size_t stale = list_frames(dir_).size();
+  if (stale > 0)
+    throw Error("the frames folder '" + dir_.string() + "' already holds " + std::to_string(stale) +
+                " frames (frame_*.ply) of an earlier fill; remove them or choose an empty folder");
 }
 
 bool FrameWriter::offer(uint64_t step, const ParticleSet& particles) {

@@ -16,11 +16,15 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
   const bool colours = particles.has_colours();
   const bool velocities = options.velocities && particles.has_velocities();
   const bool houdini = options.names == AttributeNames::Houdini;
+  // Far from the origin (survey, CAD coordinates) float32 would move spheres
+  // by more than the overlaps the fill bounds: positions then go as doubles.
+  const bool wide = positions_need_doubles(particles);
 
   std::string header =
       "ply\nformat binary_little_endian 1.0\ncomment written by pfill: spheres, radius in model units\n"
-      "element vertex " + std::to_string(particles.size()) + "\n"
-      "property float x\nproperty float y\nproperty float z\n";
+      "element vertex " + std::to_string(particles.size()) + "\n" +
+      (wide ? "property double x\nproperty double y\nproperty double z\n"
+            : "property float x\nproperty float y\nproperty float z\n");
   header += houdini ? "property float pscale\n" : "property float radius\n";
   if (colours)
     header += houdini ? "property float Cd.r\nproperty float Cd.g\nproperty float Cd.b\n"
@@ -48,9 +52,15 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
     file.write(header);
     write_records(file, particles.size(), 1 << 14, [&](std::string& chunk, size_t i) {
       const Vec3& p = particles.positions[i];
-      byte_order::append_f32_le(chunk, static_cast<float>(p.x));
-      byte_order::append_f32_le(chunk, static_cast<float>(p.y));
-      byte_order::append_f32_le(chunk, static_cast<float>(p.z));
+      if (wide) {
+        byte_order::append_f64_le(chunk, p.x);
+        byte_order::append_f64_le(chunk, p.y);
+        byte_order::append_f64_le(chunk, p.z);
+      } else {
+        byte_order::append_f32_le(chunk, static_cast<float>(p.x));
+        byte_order::append_f32_le(chunk, static_cast<float>(p.y));
+        byte_order::append_f32_le(chunk, static_cast<float>(p.z));
+      }
       byte_order::append_f32_le(chunk, static_cast<float>(particles.radii[i]));
       if (colours && houdini) {
         for (uint8_t c : particles.colours[i]) byte_order::append_f32_le(chunk, c / 255.0f);

@@ -271,6 +271,7 @@ Mesh load_with_assimp(const std::string& path) {
                            std::tolower(magic[2]) == 'y';
     if (ply_magic || detail::lower_extension(path) == ".ply") detail::check_ply_structure(path);
   }
+  if (detail::lower_extension(path) == ".off") detail::check_off_indices(path);
   Assimp::Importer importer;
   Vec3 shift;
   if (detail::lower_extension(path) == ".obj") {

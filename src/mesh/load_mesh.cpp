@@ -77,12 +77,14 @@ std::vector<std::string> supported_mesh_extensions() {
 
 Mesh load_mesh(const std::string& path, const LoadOptions& options) {
   try {
+    detail::require_readable_file(path);  // first: a FIFO must not block any reader
     Mesh mesh = read_by_extension(path, detail::lower_extension(path));
     mesh.source = path;
     const double diagonal = mesh.bounds().diagonal();
     weld_vertices(mesh, options.weld_tolerance > 0 ? options.weld_tolerance * diagonal : 0.0);
     if (remove_duplicate_triangles(mesh) > 0) weld_vertices(mesh);  // drops the vertices left unused
     validate(mesh);
+    mesh.turned_faces = orient_faces(mesh);
     return mesh;
   } catch (const Error& e) {
     throw Error(printable(e.what()));

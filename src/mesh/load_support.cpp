@@ -18,6 +18,10 @@ void require_readable_file(const std::string& path) {
   if (::stat(path.c_str(), &info) != 0)
     throw Error(path + ": cannot open the file (" + std::strerror(errno) + "); check the path");
   if (S_ISDIR(info.st_mode)) throw Error(path + ": is a folder, not a mesh file");
+  // A FIFO would block the open (or be read once and then found empty):
+  // pfill reads each mesh several times, so only regular files will do.
+  if (!S_ISREG(info.st_mode))
+    throw Error(path + ": is not a regular file (a FIFO, socket or device); save the mesh to a file first");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(path + ": cannot open the file for reading (" + std::strerror(errno) + ")");
   if (info.st_size == 0) throw Error(path + ": the file is empty; re-export the mesh");

@@ -37,6 +37,10 @@ void check_ply_structure(const std::string& path);
 /// (load_obj_check.cpp).
 Box3 check_obj_vertices(const std::string& path);
 
+/// Throws pfill::Error naming the line when an OFF text file's face names a
+/// vertex index out of range (load_off_check.cpp; assimp drops such faces).
+void check_off_indices(const std::string& path);
+
 /// The OBJ file's text with every vertex moved by -shift, in double.
 std::string shift_obj_vertices(const std::string& path, const Vec3& shift);
 

@@ -8,7 +8,6 @@
 namespace pfill {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 uint64_t edge_key(uint32_t a, uint32_t b) {
   if (a > b) std::swap(a, b);
@@ -138,11 +137,6 @@ MeshDiagnostics diagnose(const Mesh& mesh) {
     d.genus = static_cast<int>(static_cast<long long>(d.components) - chi / 2);
   }
   return d;
-}
-
-double radius_for_count(double volume, double count, double packing) {
-  if (!(volume > 0) || !(count > 0)) return 0;
-  return std::cbrt(3.0 * packing * volume / (4.0 * kPi * count));
 }
 
 }  // namespace pfill

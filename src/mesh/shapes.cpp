@@ -10,7 +10,6 @@
 namespace pfill {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Builds the six faces of [-h, h]^3; `skip_top` leaves out the +z face.
 Mesh make_cube_faces(double h, int n, bool skip_top) {

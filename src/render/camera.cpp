@@ -9,7 +9,6 @@
 namespace pfill {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Direction from the target towards the eye, and the up vector, per view.
 void view_direction(View view, Vec3& towards_eye, Vec3& up) {

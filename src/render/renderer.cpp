@@ -21,7 +21,6 @@
 namespace pfill {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kMaxShellLayers = 16;
 
 struct Rgb {

@@ -1,0 +1,277 @@
+// Passes 1, 2 and the settle (fill_passes.hpp).
+#include "fill/fill_passes.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+
+#include "fill/particle_set_of.hpp"
+#include "pfill/engine/engine.hpp"
+#include "pfill/error.hpp"
+#include "fill/short_number.hpp"
+#include "fill/stopwatch.hpp"
+
+namespace pfill {
+namespace {
+
+std::vector<size_t> take_flagged(ParticleEngine& e) {
+  std::vector<size_t> out = e.flagged_particles();
+  e.clear_flags();
+  return out;
+}
+
+}  // namespace
+
+FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan,
+                       std::vector<BirthSite> sites, FillReporter& reporter, FillResult& result)
+    : engine_(engine),
+      o_(o),
+      plan_(plan),
+      sites_(std::move(sites)),
+      reporter_(reporter),
+      result_(result),
+      rng_(o.seed),
+      top_speed_(engine.constants().max_speed),
+      newest_(Engine::kGone) {}
+
+// ---- pass 1: births until the object is overfull ----
+void FillPasses::pass1() {
+  const Stopwatch t;
+  const uint64_t first = engine_.steps_done();
+  const uint64_t budget = o_.max_steps ? o_.max_steps : 100 * static_cast<uint64_t>(plan_.expected) + 20000;
+  KineticEnergyTest ke(o_.ke);
+  CollisionCountTest collisions(o_.collisions);
+  // Over many sites a few keep finding room now and then long after the
+  // object is full: waves end when births fall to a small share (3% under
+  // a bound below 1% of r, where later births only overfill what the finish
+  // deletes; 0.3% at looser bounds, where the overfill is the density).
+  BlockedSitesSettings bs;
+  bs.patience = o_.patience;
+  bs.share = !plan_.waves ? 0 : o_.stop_share >= 0 ? o_.stop_share : o_.max_overlap < 0.01 ? 0.03 : 0.003;
+  BlockedSitesTest blocked(bs);
+  reporter_.set_schedule(static_cast<size_t>(std::llround(plan_.expected)),
+                         {plan_.waves, plan_.expected, static_cast<double>(bs.patience), bs.share,
+                          static_cast<double>(o_.settle_steps)});
+  reporter_.time_left().pass1_started(first);
+  reporter_.enter(FillPhase::Pass1);
+  auto stop = [&](const char* signal, std::string reason) {
+    result_.stop_signal = signal;
+    result_.stop_reason = std::move(reason);
+  };
+  bool overfull = false;
+  while (!overfull) {
+    const std::vector<int> born = run_batch(!(ke.waiting() || collisions.waiting()));
+    for (size_t k = 0; k < history_.size() && !overfull; ++k) {
+      const int births = k < born.size() ? born[k] : 0;
+      StopVerdict v = StopVerdict::Continue;
+      if (o_.stop == StopCriterion::KineticEnergy) v = ke.observe(history_[k], births > 0);
+      if (o_.stop == StopCriterion::Collisions) v = collisions.observe(history_[k], births > 0);
+      if (v == StopVerdict::RemoveNewest) remove_newest();
+      if (v == StopVerdict::Overfull) {
+        overfull = true;
+        stop(to_string(o_.stop), o_.stop == StopCriterion::KineticEnergy
+                                     ? "the kinetic energy rose over " + std::to_string(o_.ke.rising_steps) +
+                                           " steps " + std::to_string(ke.events()) + " times"
+                                     : "the colliding-pair count stayed unchanged and could not be lowered after " +
+                                           std::to_string(o_.collisions.max_tries) + " removals");
+      }
+      // The blocked-sites test always runs: it ends the pass when the
+      // report's tests never fire (a prototype found they rarely do).
+      if (!overfull && blocked.observe(births, engine_.size()) == StopVerdict::Overfull) {
+        overfull = true;
+        stop("blocked", (blocked.steps_without_birth() >= bs.patience
+                             ? "no birth site had room for " + std::to_string(bs.patience) + " steps"
+                             : "the " + std::to_string(sites_.size()) + " sites had room for at most " +
+                                   short_number(bs.share * 100) + "% of the particles in the last " +
+                                   std::to_string(bs.patience) + " steps") +
+                            (o_.stop != StopCriterion::Blocked
+                                 ? std::string(" (the ") + to_string(o_.stop) + " test did not fire first)"
+                                 : ""));
+      }
+    }
+    result_.ke_events = ke.events();
+    result_.collision_events = collisions.tries();
+    if (!overfull && engine_.steps_done() - first >= budget) {
+      overfull = true;
+      stop("budget", "the step budget of pass 1 (" + std::to_string(budget) + " steps) ran out");
+    }
+  }
+  result_.passes.push_back({to_string(FillPhase::Pass1), engine_.steps_done() - first, t.seconds()});
+  reporter_.time_left().pass1_ended();
+}
+
+// ---- pass 2: MaxParts = count - 1; top up to it ----
+void FillPasses::pass2() {
+  const Stopwatch t;
+  const uint64_t first = engine_.steps_done();
+  reporter_.enter(FillPhase::Pass2);
+  result_.max_parts = engine_.size() > 0 ? engine_.size() - 1 : 0;
+  if (engine_.size() > result_.max_parts && engine_.size() > 1) remove_newest();
+  int idle = 0;
+  while (engine_.size() < result_.max_parts && idle < o_.top_up_patience) {
+    const std::vector<int> born = run_batch(true);
+    const bool any = std::any_of(born.begin(), born.end(), [](int b) { return b > 0; });
+    idle = any ? 0 : idle + static_cast<int>(born.size());
+  }
+  result_.passes.push_back({to_string(FillPhase::Pass2), engine_.steps_done() - first, t.seconds()});
+}
+
+// ---- settle: run until at rest ----
+void FillPasses::settle() {
+  const Stopwatch t;
+  const uint64_t first = engine_.steps_done();
+  reporter_.enter(FillPhase::Settle);
+  reporter_.time_left().settle_started(first);
+  int calm = 0;
+  result_.settle_reason = "the step budget (" + std::to_string(o_.settle_steps) + " steps) ran out";
+  while (engine_.steps_done() - first < o_.settle_steps) {
+    run_batch(false);
+    for (const StepRecord& r : history_) calm = r.max_speed < o_.rest_speed * top_speed_ ? calm + 1 : 0;
+    if (calm >= o_.rest_steps) {
+      result_.settle_reason = "at rest: every speed below " + short_number(o_.rest_speed) + " of the top speed for " +
+                              std::to_string(o_.rest_steps) + " steps";
+      break;
+    }
+  }
+  result_.passes.push_back({to_string(FillPhase::Settle), engine_.steps_done() - first, t.seconds()});
+}
+
+/// Runs a batch of steps (with birth attempts when `births`), then reads
+/// the history (and, while births may follow or a frame is due, a snapshot
+/// of the positions), removes flagged particles, reports progress.
+/// Returns, per step of the batch, how many particles were born before it.
+std::vector<int> FillPasses::run_batch(bool births) {
+  throw_if_cancelled();
+  // Waves: one wave a batch, right after the snapshot it tests room on.
+  const int steps = plan_.waves ? plan_.birth_every : o_.sync_every;
+  std::vector<int> born(static_cast<size_t>(steps), 0);
+  if (o_.sort_every > 0 && engine_.steps_done() >= next_sort_) renumber_along_cells();
+  for (int s = 0; s < steps; ++s) {
+    const bool due = plan_.waves ? s == 0 : engine_.steps_done() % static_cast<uint64_t>(plan_.birth_every) == 0;
+    if (births && due && may_birth()) born[s] = plan_.waves ? birth_wave() : birth_at_sites();
+    engine_.run_steps(1);
+  }
+  history_ = engine_.read_history();
+  uint32_t flagged = 0;
+  for (const StepRecord& r : history_) flagged = std::max(flagged, r.flagged);
+  if (flagged > 0) {
+    const std::vector<size_t> out = take_flagged(engine_);
+    result_.lost_outside += out.size();
+    follow_newest_through_removals(out);
+    engine_.remove_particles(out);
+  }
+  // Positions come back only for what needs them: the birth-room test and frames.
+  const bool frame_due = o_.on_frame && o_.frame_every && engine_.steps_done() / o_.frame_every != last_frame_;
+  const bool births_ahead = reporter_.phase() == FillPhase::Pass1 || reporter_.phase() == FillPhase::Pass2;
+  if (births_ahead || frame_due) {  // (a hold on births may end next batch)
+    const std::vector<Particle> ps = engine_.read_particles();
+    snapshot_.clear();
+    for (const Particle& p : ps) snapshot_.push_back(p.position);
+    newborns_.clear();
+    if (frame_due) {
+      last_frame_ = engine_.steps_done() / o_.frame_every;
+      o_.on_frame(engine_.steps_done(), to_particle_set(ps));
+    }
+  }
+  if (!history_.empty())
+    reporter_.report(engine_.size(), history_.back().kinetic_energy, history_.back().colliding_pairs,
+                     engine_.steps_done(), 0);
+  return born;
+}
+
+/// Pass 2 births only up to MaxParts.
+bool FillPasses::may_birth() const {
+  return reporter_.phase() != FillPhase::Pass2 || engine_.size() < result_.max_parts;
+}
+
+/// One newborn at each site with room; returns how many were born.
+int FillPasses::birth_at_sites() {
+  int born = 0;
+  const double clearance = plan_.birth_clearance * plan_.rest_distance(o_);
+  for (const BirthSite& site : sites_) {
+    if (!may_birth()) break;
+    if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, clearance)) continue;
+    const Particle p = newborn_at(site.position);
+    newest_ = engine_.add_particle(p);
+    newborns_.push_back({p.position, p.velocity, engine_.steps_done()});
+    ++born;
+  }
+  return born;
+}
+
+/// A wave: one newborn at every site with room in the snapshot just read
+/// (a grid of it answers each site in O(1)), added in one upload. Sites lie
+/// several rest distances apart, so newborns of one wave never crowd each
+/// other. Returns how many were born.
+int FillPasses::birth_wave() {
+  const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
+  const bool capped = reporter_.phase() == FillPhase::Pass2;
+  std::vector<Particle> newborns;
+  for (const BirthSite& site : sites_) {
+    if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
+    if (room.has_room(site.position)) newborns.push_back(newborn_at(site.position));
+  }
+  if (!newborns.empty()) newest_ = engine_.add_particles(newborns) + newborns.size() - 1;
+  return static_cast<int>(newborns.size());
+}
+
+Particle FillPasses::newborn_at(const Vec3& position) {
+  Particle p;
+  p.position = position;
+  p.radius = plan_.radius;
+  p.id = next_id_++;
+  p.velocity = random_direction() *
+               (top_speed_ * (o_.birth_speed[0] + (o_.birth_speed[1] - o_.birth_speed[0]) * speed_(rng_)));
+  return p;
+}
+
+/// Newborns since the last snapshot fly straight at their birth speed
+/// (they are the fastest particles there): predicted, they need no read-back.
+bool FillPasses::newborns_clear(const Vec3& site, double clearance) const {
+  const double dt = engine_.constants().dt;
+  for (const Newborn& b : newborns_) {
+    const Vec3 now = b.position + b.velocity * (dt * static_cast<double>(engine_.steps_done() - b.step));
+    if (length(now - site) < clearance) return false;
+  }
+  return true;
+}
+
+Vec3 FillPasses::random_direction() {
+  std::normal_distribution<double> g(0, 1);
+  for (;;) {
+    const Vec3 v{g(rng_), g(rng_), g(rng_)};
+    const double l = length(v);
+    if (l > 1e-9) return v / l;
+  }
+}
+
+/// Removes the newest particle (the report's "remove the last born"); when
+/// it is gone already (removed outside), the last index instead.
+void FillPasses::remove_newest() {
+  if (engine_.size() == 0) return;
+  const size_t idx = newest_ < engine_.size() ? newest_ : engine_.size() - 1;
+  follow_newest_through_removals({idx});
+  engine_.remove_particles({idx});
+}
+
+/// Keeps newest_ pointing at the newest particle through removals.
+void FillPasses::follow_newest_through_removals(const std::vector<size_t>& removed) {
+  newest_ = Engine::index_after_removal(newest_, removed, engine_.size());
+}
+
+/// Renumbers the particles along the cells (Engine::sort_by_cells): births
+/// scatter them through memory, and near in space near in memory makes
+/// every kernel of a step read from cache.
+void FillPasses::renumber_along_cells() {
+  const std::vector<size_t> order = engine_.sort_by_cells();
+  if (newest_ != Engine::kGone)
+    newest_ = static_cast<size_t>(std::find(order.begin(), order.end(), newest_) - order.begin());
+  next_sort_ = engine_.steps_done() + static_cast<uint64_t>(o_.sort_every);
+}
+
+/// The caller's cancel hook (FillOptions::cancelled), polled at each batch.
+void FillPasses::throw_if_cancelled() const {
+  if (o_.cancelled && o_.cancelled()) throw Cancelled();
+}
+
+}  // namespace pfill

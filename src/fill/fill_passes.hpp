@@ -1,0 +1,70 @@
+// Passes 1, 2 and the settle of DESIGN.md's algorithm, on any engine:
+//   pass 1:  while not overfull: births at the sites; update
+//   pass 2:  MaxParts = count - 1; top up to MaxParts
+//   settle:  update until at rest
+// The host runs a batch of steps (`sync_every`, or a wave's `birth_every`),
+// then reads the step history and, while births may follow, a snapshot of
+// the positions that the birth-room test uses; particles the wall flagged
+// outside are removed then.
+#pragma once
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "fill/fill_plan.hpp"
+#include "fill/fill_progress.hpp"
+#include "pfill/engine/particle_engine.hpp"
+#include "pfill/fill.hpp"
+
+namespace pfill {
+
+class FillPasses {
+ public:
+  /// Runs on `engine` (empty, the field set); writes what the passes
+  /// decide (stop signal, MaxParts, losses, pass times) into `result`.
+  FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan, std::vector<BirthSite> sites,
+             FillReporter& reporter, FillResult& result);
+
+  void pass1();
+  void pass2();
+  void settle();
+
+  /// The id the next particle gets (ids count births in order).
+  uint64_t next_id() const { return next_id_; }
+
+ private:
+  std::vector<int> run_batch(bool births);
+  bool may_birth() const;
+  int birth_at_sites();
+  int birth_wave();
+  Particle newborn_at(const Vec3& position);
+  bool newborns_clear(const Vec3& site, double clearance) const;
+  Vec3 random_direction();
+  void remove_newest();
+  void follow_newest_through_removals(const std::vector<size_t>& removed);
+  void renumber_along_cells();
+  void throw_if_cancelled() const;
+
+  ParticleEngine& engine_;
+  const FillOptions& o_;
+  const FillPlan& plan_;
+  std::vector<BirthSite> sites_;
+  FillReporter& reporter_;
+  FillResult& result_;
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> speed_{0, 1};
+  double top_speed_ = 0;
+  std::vector<StepRecord> history_;
+  std::vector<Vec3> snapshot_;   ///< positions at the last read, for the room tests
+  struct Newborn {
+    Vec3 position, velocity;
+    uint64_t step;
+  };
+  std::vector<Newborn> newborns_;  ///< born since the last snapshot
+  size_t newest_;                  ///< index of the last particle born (Engine::kGone: removed)
+  uint64_t next_sort_ = 0;         ///< step of the next renumbering along the cells
+  uint64_t next_id_ = 1;           ///< ids in birth order; the engines carry them (Particle::id)
+  uint64_t last_frame_ = 0;
+};
+
+}  // namespace pfill

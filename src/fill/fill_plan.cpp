@@ -1,0 +1,126 @@
+// The plan of a fill (fill_plan.hpp).
+#include "fill/fill_plan.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "fill/fill_options_check.hpp"
+#include "pfill/boundary.hpp"
+#include "pfill/device/device.hpp"
+#include "pfill/error.hpp"
+#include "fill/short_number.hpp"
+
+namespace pfill {
+namespace {
+
+// Steps between waves: slower waves compress more gently and pack denser,
+// while pass 1 stays about 20,000 steps at any count.
+constexpr int kWaveEvery = 48;
+// The automatic schedule's switch to waves (FillOptions::sites = -1): below
+// this count the report's two sites pack denser and take no longer; from it
+// on, waves are faster.
+constexpr size_t kWavesFrom = 2000;
+// Room test radii, in rest distances: 0.5 packs densest at the report's
+// sites; over many sites it overfills, and the finish then deletes more.
+constexpr double kSiteClearance = 0.5, kWaveClearance = 0.55;
+// Device memory a particle slot needs, counted generously (the capacity
+// may double), on top of the field.
+constexpr double kDeviceBytesPerParticle = 2 * 96;
+constexpr double kDeviceBytesFixed = 1024 * 96;
+
+}  // namespace
+
+double particle_radius(const FillOptions& o, double volume, double area) {
+  return o.radius > 0 ? o.radius : fill_radius_for_count(volume, area, o.count, o.max_overlap, o.rest_distance);
+}
+
+FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o) {
+  FillPlan plan;
+  plan.volume = d.volume();
+  plan.area = d.surface_area;
+  if (!(plan.volume > 0)) throw Error("the mesh encloses no volume; pfill needs a closed solid");
+  plan.radius = particle_radius(o, plan.volume, plan.area);
+  if (!(plan.radius > 0)) throw Error("give a particle radius (-r) or a count (-n)");
+  plan.expected = expected_fill_count(plan.volume, plan.area, plan.radius * o.rest_distance, o.max_overlap, o.rest_distance);
+  if (plan.expected > kMaxParticles)
+    throw Error("a radius of " + short_number(plan.radius) + " would give about " + short_number(plan.expected) +
+                " particles, more than pfill handles (" + short_number(kMaxParticles) +
+                "); choose a larger radius or a smaller count");
+
+  // The field: at a share of r, coarsened to stay within max_field_samples.
+  SdfOptions& so = plan.field;
+  so.spacing = o.field_spacing * plan.radius;
+  const Vec3 size = bounds.size();
+  const double margin = 3 * so.spacing + 2 * plan.radius;
+  auto samples = [&](double h) {
+    return (size.x + 2 * margin) / h * (size.y + 2 * margin) / h * (size.z + 2 * margin) / h;
+  };
+  if (samples(so.spacing) > static_cast<double>(o.max_field_samples)) {
+    so.spacing *= std::cbrt(samples(so.spacing) / static_cast<double>(o.max_field_samples)) * 1.01;
+    plan.warnings.push_back("the distance field was coarsened to a spacing of " + short_number(so.spacing / plan.radius) +
+                            " r to stay within " + short_number(static_cast<double>(o.max_field_samples)) +
+                            " samples; the final exact check corrects what it misses");
+  }
+  so.margin = 2 * plan.radius + 3 * so.spacing;
+  so.band = std::max(3 * plan.radius, 4 * so.spacing);
+
+  plan.waves = o.sites == 0 || (o.sites < 0 && std::llround(plan.expected) >= static_cast<long long>(kWavesFrom));
+  plan.birth_every = o.birth_every > 0 ? o.birth_every : (plan.waves ? kWaveEvery : 3);
+  plan.birth_clearance = o.birth_clearance > 0 ? o.birth_clearance : (plan.waves ? kWaveClearance : kSiteClearance);
+  return plan;
+}
+
+std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& field, const Boundary& boundary,
+                                        const FillOptions& o) {
+  std::vector<BirthSite> sites;
+  if (plan.waves) sites = spread_birth_sites(field, o.site_spacing * plan.rest_distance(o), o.site_min_depth * plan.radius);
+  if (sites.empty())  // the report's sites; for waves, the one deepest point of a thin object
+    sites = choose_birth_sites(field, o.sites < 0 ? 2 : std::max(1, o.sites), plan.radius, o.site_depth);
+  if (sites.empty()) {
+    double deepest = 0;
+    for (float v : field.values) deepest = std::max(deepest, -static_cast<double>(v));
+    throw Error("no particle of radius " + short_number(plan.radius) + " fits: the deepest point is " + short_number(deepest) +
+                " from the surface; choose a smaller radius or a larger count");
+  }
+  if (o.birth) {
+    const Vec3 p = *o.birth;
+    if (!boundary.inside(p))
+      throw Error("birth is outside the mesh; give a point inside it or leave it out");
+    const double depth = -boundary.signed_distance(p);
+    if (depth < plan.radius)
+      throw Error("birth is only " + short_number(depth) + " from the surface, less than the radius " +
+                  short_number(plan.radius) + "; move it deeper inside");
+    sites[0] = {p, depth};
+  }
+  return sites;
+}
+
+EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o) {
+  EngineParams p;
+  p.radius = plan.radius;
+  p.max_radius = plan.radius * (1 + 1e-6);  // radii come back from the device as floats
+  p.rest_distance = plan.rest_distance(o);
+  p.eps = o.epsilon;
+  p.exponent_a = o.exponents[0];
+  p.exponent_b = o.exponents[1];
+  p.cutoff_sigma = o.cutoff;
+  p.restitution = o.restitution;
+  p.wall_restitution = o.wall_restitution;
+  p.damping = o.damping;
+  p.dt = o.time_step * derive_constants(p).tau;
+  p.max_step_fraction = o.max_step;
+  p.skin_sigma = o.skin;
+  return p;
+}
+
+void check_device_memory(const Device& device, const FillPlan& plan, size_t field_bytes) {
+  const double needed = plan.expected * kDeviceBytesPerParticle + kDeviceBytesFixed + static_cast<double>(field_bytes);
+  const double has = static_cast<double>(device.info().global_memory);
+  if (has > 0 && needed > has)
+    throw Error("about " + short_number(plan.expected) + " particles need ~" + short_number(needed / 1048576.0) + " MiB but " +
+                device.info().name + " has " + short_number(has / 1048576.0) +
+                " MiB; choose a larger radius or another device (--device)");
+}
+
+}  // namespace pfill

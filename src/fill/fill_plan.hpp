@@ -1,0 +1,59 @@
+// The plan of a fill, made before any step: the radius (from -r or the
+// count rule), the count expected, the distance field's spacing, the birth
+// schedule and its sites, the engine's settings, and whether the device
+// holds it all.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "pfill/birth_sites.hpp"
+#include "pfill/engine/params.hpp"
+#include "pfill/fill.hpp"
+#include "pfill/mesh_diagnostics.hpp"
+#include "pfill/sdf.hpp"
+
+namespace pfill {
+
+class Boundary;
+class Device;
+
+struct FillPlan {
+  double volume = 0;          ///< of the mesh (or the union of its parts)
+  double area = 0;            ///< of its surface
+  double radius = 0;          ///< of every sphere
+  double expected = 0;        ///< particles when full, by the count rule
+  SdfOptions field{0};        ///< the distance field's spacing, margin and band
+  bool waves = false;         ///< births in waves over spread sites (else the report's sites)
+  int birth_every = 3;        ///< steps between births at a site (a wave's steps with waves)
+  double birth_clearance = 0.5;  ///< room test radius, in rest distances
+  std::vector<std::string> warnings;  ///< what the plan had to give up (a coarsened field)
+
+  /// Centre distance at the potential's minimum: 2r, or more for sparser fills.
+  double rest_distance(const FillOptions& o) const { return o.rest_distance * 2 * radius; }
+};
+
+/// The radius of a fill: -r, or the one that gives about -n particles.
+/// Particles keep the rest distance apart, so with a count the spacing, not
+/// the sphere, is what must fit (the report's Fig. 4).
+double particle_radius(const FillOptions& o, double volume, double area);
+
+/// Radius, expected count, field and schedule for `o` on a mesh of box
+/// `bounds` and diagnostics `d` (`o` checked: check_fill_options); throws
+/// when they cannot work.
+FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o);
+
+/// The birth sites of the plan's schedule on `field`: spread over the inside
+/// for waves, else the report's deepest far-apart points; FillOptions::
+/// birth_point replaces the first. Throws when no sphere fits.
+std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& field, const Boundary& boundary,
+                                        const FillOptions& o);
+
+/// The engine's settings for passes 1 to 3: the report's physics in the
+/// units of the plan's radius.
+EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o);
+
+/// Throws when the particles expected and the field will not fit in the
+/// device's memory.
+void check_device_memory(const Device& device, const FillPlan& plan, size_t field_bytes);
+
+}  // namespace pfill

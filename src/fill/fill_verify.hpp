@@ -1,0 +1,20 @@
+// The last word on a fill, by exact distances: spheres the field let
+// through the surface moved in or removed, holes it hid near the wall
+// given a sphere, then the metrics and the colours.
+#pragma once
+#include <cstdint>
+
+#include "pfill/boundary.hpp"
+#include "pfill/fill.hpp"
+
+namespace pfill {
+
+/// Repairs containment of `particles` (spheres of `radius` in the mesh of
+/// `boundary`, enclosing `volume`), fills the holes a sphere still fits in,
+/// measures and colours them, and moves them into `result` (particles,
+/// metrics, containment, holes_filled, warnings). `next_id` labels the
+/// spheres it inserts.
+void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius, const FillOptions& o,
+                 ParticleSet particles, uint64_t& next_id, FillResult& result);
+
+}  // namespace pfill
