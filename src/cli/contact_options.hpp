@@ -22,8 +22,9 @@ struct ContactArgs {
   bool wanted() const { return contacts || !pairs.empty(); }
 };
 
-/// Adds --contacts (when `with_flag`), --contact-gap and --pairs to `cmd`.
-void add_contact_options(CLI::App* cmd, ContactArgs& args, bool with_flag);
+/// Adds --contacts (when `with_flag`), --contact-gap and --pairs to `cmd`;
+/// --contact-gap and --pairs in `details_group` (fill: shown by --help-all).
+void add_contact_options(CLI::App* cmd, ContactArgs& args, bool with_flag, const std::string& details_group = "Options");
 
 /// The network of `particles` (wall contacts too when a boundary is given),
 /// its --pairs CSV written, and its report section.

@@ -21,7 +21,7 @@
 
 namespace pfill::cli {
 
-void add_contact_options(CLI::App* cmd, ContactArgs& a, bool with_flag) {
+void add_contact_options(CLI::App* cmd, ContactArgs& a, bool with_flag, const std::string& details_group) {
   if (with_flag)
     cmd->add_flag("--contacts", a.contacts,
                   "Find the contact network of the final particles: the output gets each sphere's coordination "
@@ -30,10 +30,12 @@ void add_contact_options(CLI::App* cmd, ContactArgs& a, bool with_flag) {
   cmd->add_option("--contact-gap,--gap", a.gap,
                   "Spheres touch when their gap is at most this fraction of the smaller radius")
       ->check(CLI::Range(0.0, 1.0))
-      ->capture_default_str();
+      ->capture_default_str()
+      ->group(details_group);
   cmd->add_option("--pairs", a.pairs,
                   "Write the contacts as CSV: a,b,gap,x,y,z,nx,ny,nz (particle ids; b = 0 for the wall, "
-                  "with the surface point and its outward normal)");
+                  "with the surface point and its outward normal)")
+      ->group(details_group);
 }
 
 ContactResult find_and_write_contacts(const ContactArgs& a, const ParticleSet& particles, const Boundary* boundary) {

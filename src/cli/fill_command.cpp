@@ -330,8 +330,8 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
       ->check(positive_number())
       ->capture_default_str()
       ->group(details);
-  add_contact_options(cmd, a->contacts, true);
-  add_shell_options(cmd, a->shell);
+  add_contact_options(cmd, a->contacts, true, details);
+  add_shell_options(cmd, a->shell, details);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
   cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)")
       ->group(details);

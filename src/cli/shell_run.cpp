@@ -11,13 +11,16 @@
 
 namespace pfill::cli {
 
-void add_shell_options(CLI::App* cmd, ShellArgs& a) {
+void add_shell_options(CLI::App* cmd, ShellArgs& a, const std::string& details_group) {
   cmd->add_flag("--shell", a.shell,
                 "Also boundary particles on the surface (as `pfill surface`), in the same output with a kind "
                 "attribute (0 inner, 1 boundary; LAMMPS atom types 1 and 2) and each boundary particle's nx ny "
-                "nz and area; the inner fill is kept clear of them by a wall moved in by their radius");
+                "nz and area; the inner fill is kept clear of them by a wall moved in by their radius (the summary's "
+                "metrics are the inner fill's)")
+      ->group(details_group);
   cmd->add_option("--shell-radius", a.radius, "Radius of the boundary particles (default: the fill's radius)")
-      ->check(positive_number());
+      ->check(positive_number())
+      ->group(details_group);
 }
 
 ShellRun::ShellRun(const ShellArgs& a, const Mesh& mesh, FillOptions& o) : boundary_(mesh) {

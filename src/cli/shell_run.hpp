@@ -19,8 +19,8 @@ struct ShellArgs {
   double radius = 0;  ///< the shell particles' radius; 0: the fill's
 };
 
-/// Adds --shell and --shell-radius to `cmd`.
-void add_shell_options(CLI::App* cmd, ShellArgs& args);
+/// Adds --shell and --shell-radius (in `details_group`) to `cmd`.
+void add_shell_options(CLI::App* cmd, ShellArgs& args, const std::string& details_group = "Options");
 
 class ShellRun {
  public:
