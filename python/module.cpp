@@ -12,9 +12,11 @@
 #include <vector>
 
 #include "arrays.hpp"
+#include "contacts.hpp"
 #include "fill_hooks.hpp"
 #include "mesh_argument.hpp"
 #include "pfill/boundary.hpp"
+#include "pfill/contact_network.hpp"
 #include "pfill/device/device.hpp"
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
@@ -30,6 +32,7 @@ namespace {
 
 struct PyFillResult {
   py::object positions, radii, colours, velocities, ids, metrics, report;
+  py::object contacts = py::none(), coordination = py::none();  // found on first access (contacts.hpp)
   double radius = 0;
   size_t size = 0;
 };
@@ -212,6 +215,21 @@ PYBIND11_MODULE(_pfill, m) {
       .def_readonly("metrics", &PyFillResult::metrics, "dict: the metrics of `pfill fill --report`")
       .def_readonly("report", &PyFillResult::report, "dict: the whole `pfill fill --report` JSON")
       .def_readonly("radius", &PyFillResult::radius, "the particle radius")
+      .def_property_readonly("contacts", [](PyFillResult& r) {
+        if (r.contacts.is_none()) {
+          const py::tuple t = contact_pairs(r.positions, r.radii, kDefaultContactGap);
+          r.contacts = t[0], r.coordination = t[1];
+        }
+        return r.contacts;
+      }, "(M, 2) int64: the pairs of spheres in contact (indices, a < b; gap at most 2% of the smaller "
+         "radius); pfill.contacts() for another gap and the wall")
+      .def_property_readonly("coordination", [](PyFillResult& r) {
+        if (r.coordination.is_none()) {
+          const py::tuple t = contact_pairs(r.positions, r.radii, kDefaultContactGap);
+          r.contacts = t[0], r.coordination = t[1];
+        }
+        return r.coordination;
+      }, "(N,) int64: each sphere's contacts (as in .contacts)")
       .def("__len__", [](const PyFillResult& r) { return r.size; })
       .def("__repr__", [](const PyFillResult& r) {
         return "<pfill.FillResult " + std::to_string(r.size) + " particles, radius " +
@@ -249,5 +267,7 @@ PYBIND11_MODULE(_pfill, m) {
   m.def("devices", &devices,
         "The OpenCL devices, as dicts (index, name, platform, type, version, compute_units, global_memory, "
         "default); choose one with fill(..., device=index or name) or PFILL_DEVICE.");
+  add_contacts_bindings(m);
+  add_surface_bindings(m);
   m.def("builtin_shapes", &builtin_shape_names, "Names of the built-in shapes fill() and load_mesh() accept.");
 }

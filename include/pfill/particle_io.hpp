@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "pfill/contacts.hpp"
+#include "pfill/particle_attributes.hpp"
 #include "pfill/particles.hpp"
 
 namespace pfill {
@@ -46,6 +48,16 @@ struct ParticleWriteOptions {
   /// 5% of its largest side (at least the largest radius) on every side.
   Box3 box;
   double density = 1.0;     ///< LAMMPS data: every particle's density (mass / volume)
+  /// The contact network of these particles (contacts.hpp), or none. With
+  /// one, every format carries each particle's `coordination`, and PLY adds
+  /// `element edge` (int vertex1 vertex2, float gap), VTP a line cell per
+  /// pair, LAMMPS data `Bonds` (atom_style hybrid sphere bond).
+  const ContactNetwork* contacts = nullptr;
+  /// Boundary particles' attributes (particle_attributes.hpp), or none: each
+  /// present vector is written, as `kind` (uchar), nx ny nz and `area` (PLY,
+  /// CSV; VTP kind, normal, area; GLB _KIND, _NORMAL, _AREA; xyzr columns),
+  /// and LAMMPS data gives each kind its atom type (1 inner, 2 boundary).
+  const ParticleAttributes* attributes = nullptr;
 };
 
 /// Whether float32 positions would move some sphere by more than 1e-5 of the

@@ -21,8 +21,10 @@ from ._pfill import (  # noqa: F401
     FillResult,
     __version__,
     builtin_shapes,
+    contacts,
     devices,
     load_mesh,
+    surface,
 )
 
 
@@ -57,4 +59,4 @@ def _one_line_type_errors(function):
 fill = _one_line_type_errors(_pfill.fill)
 check = _one_line_type_errors(_pfill.check)
 
-__all__ = ["fill", "check", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]
+__all__ = ["fill", "check", "contacts", "surface", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]

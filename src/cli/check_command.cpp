@@ -1,11 +1,14 @@
 // `pfill check PARTICLES MESH`: the metrics of a fill for any particle file,
 // so pfill's output can be compared with other tools'.
 #include <iostream>
+#include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/contact_options.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
 #include "cli/number_checks.hpp"
+#include "cli/shell_report.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
@@ -20,6 +23,9 @@ void add_check_command(CLI::App& app) {
     double radius = 0;
     double tolerance = 0.01;
     bool json = false;
+    bool shell = false;  // also the figures of the boundary particles (those on the surface)
+    std::string pairs;   // a contacts CSV to verify
+    double gap = kDefaultContactGap;
     // Thresholds (negative: not checked); a miss exits with kExitThresholdMissed.
     double min_inside = -1, max_overlap = -1, min_packing = -1;
   };
@@ -32,6 +38,14 @@ void add_check_command(CLI::App& app) {
       ->check(number_in(0, 1))
       ->capture_default_str();
   cmd->add_flag("--json", a->json, "Write the metrics as JSON on standard output");
+  cmd->add_option("--pairs", a->pairs,
+                  "A contacts CSV (fill --pairs): exit 3 unless every listed pair is within --contact-gap");
+  cmd->add_option("--contact-gap", a->gap, "The gap --pairs lists, a fraction of the smaller radius")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  cmd->add_flag("--shell", a->shell,
+                "Also the figures of the boundary particles (`pfill surface`, `fill --shell`: those whose centre "
+                "lies within half their radius of the surface): nearest-neighbour spacing and coverage");
   cmd->add_option("--min-inside", a->min_inside,
                   "Exit with status 3 unless at least this share of the spheres (0..1) lies inside")
       ->check(number_in(0, 1));
@@ -55,7 +69,11 @@ void add_check_command(CLI::App& app) {
     MetricsOptions mo;
     mo.containment_tolerance = a->tolerance;
     const PackingMetrics m = measure_packing(boundary, diagnose(mesh).volume(), particles, mo);
+    std::optional<ShellStats> shell;
+    if (a->shell) shell = measure_shell_of(boundary, particles);
     std::vector<std::string> misses;
+    nlohmann::ordered_json pairs;
+    if (!a->pairs.empty()) pairs = verify_pairs(particles, a->pairs, a->gap, misses);
     if (a->min_inside >= 0 && m.contained_share < a->min_inside)
       misses.push_back(num(100 * m.contained_share, 4) + "% of the spheres lie inside, below --min-inside " +
                        num(100 * a->min_inside, 4) + "%");
@@ -68,12 +86,19 @@ void add_check_command(CLI::App& app) {
     if (a->json) {
       nlohmann::ordered_json j{{"particles_file", a->particles}, {"mesh", mesh.source}};
       j["metrics"] = metrics_json(m);
+      if (shell) j["shell"] = shell_json(*shell);
+      if (!pairs.is_null()) j["contacts"] = pairs;
       j["passed"] = misses.empty();
       j["failures"] = misses;
       std::cout << j.dump(2) << "\n";
     } else {
       std::printf("%s in %s\n", a->particles.c_str(), mesh.source.c_str());
       print_metrics(stdout, m);
+      if (shell) print_shell(stdout, *shell);
+      if (!pairs.is_null())
+        std::printf("  contacts        %s listed pairs, %s beyond the gap (largest gap %.4f of the smaller radius); %s found here\n",
+                    thousands(pairs["listed"].get<size_t>()).c_str(), thousands(pairs["beyond_gap"].get<size_t>()).c_str(),
+                    pairs["largest_gap"].get<double>(), thousands(pairs["found"].get<size_t>()).c_str());
     }
     std::fflush(stdout);
     for (const std::string& miss : misses) std::fprintf(stderr, "pfill check: FAILED: %s\n", miss.c_str());

@@ -29,4 +29,10 @@ void add_devices_command(CLI::App& app);
 /// `pfill render PARTICLES|FRAMES_DIR -o OUT [--mesh MESH] [--view V] [--size WxH] [--cut x|y|z[=v]]`
 void add_render_command(CLI::App& app);
 
+/// `pfill contacts PARTICLES [MESH] [--gap G] -o OUT [--pairs PAIRS.csv]`
+void add_contacts_command(CLI::App& app);
+
+/// `pfill surface MESH (-r R | -n N) -o shell.ply`
+void add_surface_command(CLI::App& app);
+
 }  // namespace pfill::cli

@@ -16,6 +16,8 @@
 #include <optional>
 
 #include "cli/commands.hpp"
+#include "cli/contact_options.hpp"
+#include "cli/shell_run.hpp"
 #include "cli/format.hpp"
 #include "cli/mesh_argument.hpp"
 #include "cli/metrics_report.hpp"
@@ -52,6 +54,8 @@ struct FillArgs {
   bool json = false;                  // the summary as JSON on stdout
   std::string attribute_names = "pfill";
   double density = 1.0;               // LAMMPS .data
+  ContactArgs contacts;               // --contacts, --contact-gap, --pairs
+  ShellArgs shell;                    // --shell, --shell-radius
   FillOptions options;
 };
 
@@ -161,7 +165,7 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   if (a.output.empty())
     a.output = (from_file ? fs::path(a.mesh).stem().string() : a.builtin) + "_particles.ply";
   parse_settings(a, cmd);
-  refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}},
+  refuse_clashing_paths({{"the mesh", a.mesh}}, {{"-o", a.output}, {"--report", a.report}, {"--preview", a.preview}, {"--pairs", a.contacts.pairs}},
                         {"--frames", a.frames});
   particle_format_from_path(a.output);  // an unknown extension fails now, not after the fill
   if (!a.preview.empty()) {
@@ -185,6 +189,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   wo.names = parse_attribute_names(a.attribute_names);
   wo.density = a.density;
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
+  std::unique_ptr<ShellRun> shell;  // --shell: the fill in the mesh moved in by the shell's radius
+  if (a.shell.shell) shell = std::make_unique<ShellRun>(a.shell, mesh, a.options);
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
@@ -202,7 +208,7 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   defer_interrupts_to(&interrupted);
   FillResult r;
   try {
-    r = fill(mesh, a.options);
+    r = fill(shell ? shell->fill_mesh() : mesh, a.options);
   } catch (const Cancelled&) {
     defer_interrupts_to(nullptr);
     if (frames && frames->frames_written() > 0)
@@ -217,17 +223,31 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
+  if (shell) {
+    shell->join(r);  // r.particles: the inner spheres, then the shell's
+    wo.attributes = &shell->attributes();
+  }
   for (const std::string& w : r.warnings)
     std::fprintf(stderr, "pfill: warning: %s\n", with_flags(w).c_str());
 
+  ContactResult contacts;  // after the fill, from its final particles
+  if (a.contacts.wanted()) {
+    const Boundary boundary(mesh);
+    contacts = find_and_write_contacts(a.contacts, r.particles, &boundary);
+    wo.contacts = contacts.network.get();
+  }
   write_particles(r.particles, a.output, wo);
+  wo.contacts = nullptr;
   if (frames) frames->write(r.particles);
   if (!a.preview.empty()) {
     RenderOptions ro;
     ro.cut = parse_cut("z");
     write_png(render(r.particles, &mesh, ro), a.preview);
   }
-  const std::string report = fill_report_json(r, mesh.source, a.options.seed, a.output).dump(2) + "\n";
+  nlohmann::ordered_json report_json = fill_report_json(r, mesh.source, a.options.seed, a.output);
+  if (contacts.network) report_json["contacts"] = contacts.report;
+  if (shell) report_json["shell"] = shell->report();
+  const std::string report = report_json.dump(2) + "\n";
   if (!a.report.empty() && a.report != "-")
     write_file_atomically(a.report, [&](AtomicFile& f) { f.write(report); });
   if (a.json || a.report == "-") {  // the JSON alone on stdout, for scripts
@@ -238,6 +258,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   std::printf("%s -> %s  (radius %s, %s)\n", mesh.source.c_str(), a.output.c_str(), num(r.radius).c_str(),
               r.device.c_str());
   print_metrics(stdout, r.metrics);
+  if (contacts.network) print_contacts_line(stdout, *contacts.network, true);
+  if (shell) shell->print(stdout);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
   std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
@@ -308,6 +330,8 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
       ->check(positive_number("--density"))
       ->capture_default_str()
       ->group(details);
+  add_contact_options(cmd, a->contacts, true, details);
+  add_shell_options(cmd, a->shell, details);
   cmd->add_flag("-q,--quiet", a->quiet, "No progress output");
   cmd->add_flag("-v,--verbose", a->verbose, "Say what the fill chose for itself (the engine's automatic settings)")
       ->group(details);

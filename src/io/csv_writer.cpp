@@ -20,7 +20,17 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
   std::string header = houdini ? "x,y,z,pscale" : "x,y,z,radius";
   if (colours) header += houdini ? ",Cd.r,Cd.g,Cd.b" : ",r,g,b";
   if (velocities) header += houdini ? ",v.x,v.y,v.z" : ",vx,vy,vz";
-  header += ",id\n";
+  header += ",id";
+  if (options.contacts) validate(*options.contacts, particles.size(), path.string());
+  if (options.contacts) header += ",coordination";
+  const ParticleAttributes* attributes = options.attributes;
+  if (attributes) {
+    validate(*attributes, particles.size(), path.string());
+    if (attributes->has_kinds()) header += ",kind";
+    if (attributes->has_normals()) header += ",nx,ny,nz";
+    if (attributes->has_areas()) header += ",area";
+  }
+  header += "\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
@@ -51,6 +61,13 @@ void write_csv(const ParticleSet& particles, const std::filesystem::path& path,
       }
       chunk += ',';
       chunk += std::to_string(particles.id(i));
+      if (options.contacts) chunk += ',' + std::to_string(options.contacts->coordination[i]);
+      if (attributes) {
+        if (attributes->has_kinds()) chunk += ',' + std::to_string(attributes->kinds[i]);
+        if (attributes->has_normals())
+          for (int k = 0; k < 3; ++k) chunk += ',', append_number(chunk, attributes->normals[i][k]);
+        if (attributes->has_areas()) chunk += ',', append_number(chunk, attributes->areas[i]);
+      }
       chunk += '\n';
     });
   });

@@ -186,6 +186,23 @@ void write_glb(const ParticleSet& particles, const std::filesystem::path& path,
     points.attributes["_RADIUS"] = builder.add_floats(radii, 1, kArrayBuffer, false);
     points.attributes["_ID"] = builder.add_floats(ids, 1, kArrayBuffer, false);
     if (!velocities.empty()) points.attributes["_VELOCITY"] = builder.add_floats(velocities, 3, kArrayBuffer, false);
+    if (options.contacts) {  // each particle's contact count (contacts.hpp), as _COORDINATION
+      validate(*options.contacts, particles.size(), path.string());
+      const std::vector<float> coordination(options.contacts->coordination.begin(), options.contacts->coordination.end());
+      points.attributes["_COORDINATION"] = builder.add_floats(coordination, 1, kArrayBuffer, false);
+    }
+    if (const ParticleAttributes* a = options.attributes) {  // boundary particles: _KIND, _NORMAL, _AREA
+      validate(*a, particles.size(), path.string());
+      if (a->has_kinds())
+        points.attributes["_KIND"] = builder.add_floats(std::vector<float>(a->kinds.begin(), a->kinds.end()), 1, kArrayBuffer, false);
+      if (a->has_normals()) {
+        std::vector<float> normals;
+        for (const Vec3& v : a->normals) normals.insert(normals.end(), {float(v.x), float(v.y), float(v.z)});
+        points.attributes["_NORMAL"] = builder.add_floats(normals, 3, kArrayBuffer, false);
+      }
+      if (a->has_areas())
+        points.attributes["_AREA"] = builder.add_floats(std::vector<float>(a->areas.begin(), a->areas.end()), 1, kArrayBuffer, false);
+    }
     tinygltf::Mesh mesh;
     mesh.name = "particles";
     mesh.primitives.push_back(points);

@@ -41,9 +41,21 @@ void write_lammps_data(const ParticleSet& particles, const std::filesystem::path
   const bool velocities = options.velocities && particles.has_velocities();
   const Box3 box = simulation_box(particles, options.box);
 
+  // With contacts: atom_style hybrid sphere bond (Atoms `id type x y z
+  // diameter density molecule`), one bond per contact pair, one bond type.
+  const ContactNetwork* bonds = options.contacts;
+  // With kinds (fill --shell): atom type 1 inner, 2 boundary.
+  const bool kinds = options.attributes && options.attributes->has_kinds();
+  if (options.attributes) validate(*options.attributes, particles.size(), path.string());
+  if (bonds) validate(*bonds, particles.size(), path.string());
   std::string head = "pfill particles: " + std::to_string(particles.size()) +
-                     " spheres (LAMMPS data file, atom_style sphere: id type diameter density x y z)\n\n" +
-                     std::to_string(particles.size()) + " atoms\n1 atom types\n\n";
+                     (bonds ? " spheres, " + std::to_string(bonds->pairs.size()) +
+                                  " contacts as bonds (LAMMPS data file, atom_style hybrid sphere bond: id type x y z "
+                                  "diameter density molecule)\n\n"
+                            : std::string(" spheres (LAMMPS data file, atom_style sphere: id type diameter density x y z)\n\n")) +
+                     std::to_string(particles.size()) + " atoms\n" + (kinds ? "2" : "1") + " atom types\n";
+  if (bonds) head += std::to_string(bonds->pairs.size()) + " bonds\n1 bond types\n";
+  head += "\n";
   const char* axes[3][2] = {{"xlo", "xhi"}, {"ylo", "yhi"}, {"zlo", "zhi"}};
   for (int a = 0; a < 3; ++a) {
     append_number(head, box.lo[a]);
@@ -51,22 +63,38 @@ void write_lammps_data(const ParticleSet& particles, const std::filesystem::path
     append_number(head, box.hi[a]);
     head += std::string(" ") + axes[a][0] + " " + axes[a][1] + "\n";
   }
-  head += "\nAtoms # sphere\n\n";
+  head += bonds ? "\nAtoms # hybrid sphere bond\n\n" : "\nAtoms # sphere\n\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(head);
     write_records(file, particles.size(), 1 << 13, [&](std::string& chunk, size_t i) {
       chunk += std::to_string(particles.id(i));
-      chunk += " 1 ";
+      chunk += kinds ? (options.attributes->kinds[i] ? " 2" : " 1") : " 1";
+      if (bonds)  // hybrid: x y z first, then the sub-styles' columns
+        for (int k = 0; k < 3; ++k) {
+          chunk += ' ';
+          append_number(chunk, particles.positions[i][k]);
+        }
+      chunk += ' ';
       append_number(chunk, 2 * particles.radii[i]);
       chunk += ' ';
       append_number(chunk, options.density);
-      for (int k = 0; k < 3; ++k) {
-        chunk += ' ';
-        append_number(chunk, particles.positions[i][k]);
-      }
+      if (!bonds)
+        for (int k = 0; k < 3; ++k) {
+          chunk += ' ';
+          append_number(chunk, particles.positions[i][k]);
+        }
+      if (bonds) chunk += " 1";  // bond's molecule id: one body
       chunk += '\n';
     });
+    if (bonds) {
+      file.write("\nBonds\n\n");
+      write_records(file, bonds->pairs.size(), 1 << 13, [&](std::string& chunk, size_t k) {
+        const PairContact& c = bonds->pairs[k];
+        chunk += std::to_string(k + 1) + " 1 " + std::to_string(particles.id(c.a)) + ' ' +
+                 std::to_string(particles.id(c.b)) + '\n';
+      });
+    }
     if (!velocities) return;
     file.write("\nVelocities\n\n");
     write_records(file, particles.size(), 1 << 13, [&](std::string& chunk, size_t i) {

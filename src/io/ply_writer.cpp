@@ -1,5 +1,6 @@
 // Binary little-endian PLY writer: the particle format that Blender, MeshLab,
 // CloudCompare, ParaView and Houdini all open.
+#include <algorithm>
 #include <string>
 
 #include "io/byte_order.hpp"
@@ -31,7 +32,21 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
   if (velocities)
     header += houdini ? "property float v.x\nproperty float v.y\nproperty float v.z\n"
                       : "property float vx\nproperty float vy\nproperty float vz\n";
-  header += "property uint id\nend_header\n";
+  header += "property uint id\n";
+  const ParticleAttributes* attributes = options.attributes;
+  if (attributes) {
+    validate(*attributes, particles.size(), path.string());
+    if (attributes->has_kinds()) header += "property uchar kind\n";
+    if (attributes->has_normals()) header += "property float nx\nproperty float ny\nproperty float nz\n";
+    if (attributes->has_areas()) header += "property float area\n";
+  }
+  const ContactNetwork* contacts = options.contacts;
+  if (contacts) {
+    validate(*contacts, particles.size(), path.string());
+    header += "property ushort coordination\nelement edge " + std::to_string(contacts->pairs.size()) +
+              "\nproperty int vertex1\nproperty int vertex2\nproperty float gap\n";
+  }
+  header += "end_header\n";
 
   write_file_atomically(path, [&](AtomicFile& file) {
     file.write(header);
@@ -59,7 +74,25 @@ void write_ply(const ParticleSet& particles, const std::filesystem::path& path,
         byte_order::append_f32_le(chunk, static_cast<float>(v.z));
       }
       byte_order::append_u32_le(chunk, static_cast<uint32_t>(particles.id(i)));
+      if (attributes) {
+        if (attributes->has_kinds()) chunk += static_cast<char>(attributes->kinds[i]);
+        if (attributes->has_normals())
+          for (int k = 0; k < 3; ++k) byte_order::append_f32_le(chunk, static_cast<float>(attributes->normals[i][k]));
+        if (attributes->has_areas()) byte_order::append_f32_le(chunk, static_cast<float>(attributes->areas[i]));
+      }
+      if (contacts) {  // ushort, little-endian
+        const uint32_t z = std::min<uint32_t>(contacts->coordination[i], 65535);
+        chunk += static_cast<char>(z & 0xFF);
+        chunk += static_cast<char>(z >> 8);
+      }
     });
+    if (contacts)  // the pairs as edges between the vertices (file order, from 0)
+      write_records(file, contacts->pairs.size(), 1 << 14, [&](std::string& chunk, size_t k) {
+        const PairContact& c = contacts->pairs[k];
+        byte_order::append_u32_le(chunk, c.a);
+        byte_order::append_u32_le(chunk, c.b);
+        byte_order::append_f32_le(chunk, static_cast<float>(c.gap));
+      });
   });
 }
 

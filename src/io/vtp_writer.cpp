@@ -93,6 +93,27 @@ void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
     };
     point_data.push_back(std::move(colour));
   }
+  const ContactNetwork* contacts = options.contacts;
+  if (contacts) {
+    validate(*contacts, n, path.string());
+    point_data.push_back(int64_array("coordination", n, [contacts](size_t k) {
+      return static_cast<int64_t>(contacts->coordination[k]);
+    }));
+  }
+  if (const ParticleAttributes* a = options.attributes) {
+    validate(*a, n, path.string());
+    if (a->has_kinds())
+      point_data.push_back(int64_array("kind", n, [a](size_t k) { return static_cast<int64_t>(a->kinds[k]); }));
+    if (a->has_normals())
+      point_data.push_back(float64_array("normal", 3, n, [a](size_t k) { return a->normals[k / 3][static_cast<int>(k % 3)]; }));
+    if (a->has_areas()) point_data.push_back(float64_array("area", 1, n, [a](size_t k) { return a->areas[k]; }));
+  }
+  const size_t lines = contacts ? contacts->pairs.size() : 0;  // one line cell per contact pair
+  const VtpArray line_connectivity = int64_array("connectivity", 2 * lines, [contacts](size_t k) {
+    const PairContact& c = contacts->pairs[k / 2];
+    return static_cast<int64_t>(k % 2 ? c.b : c.a);
+  });
+  const VtpArray line_offsets = int64_array("offsets", lines, [](size_t k) { return int64_t(2 * (k + 1)); });
   if (options.velocities && particles.has_velocities())
     point_data.push_back(float64_array("velocity", 3, n, [&](size_t k) {
       return particles.velocities[k / 3][static_cast<int>(k % 3)];
@@ -121,7 +142,7 @@ void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
         "header_type=\"UInt64\">\n  <PolyData>\n"
         "    <Piece NumberOfPoints=\"" + std::to_string(n) +
         "\" NumberOfVerts=\"" + std::to_string(n) +
-        "\" NumberOfLines=\"0\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n");
+        "\" NumberOfLines=\"" + std::to_string(lines) + "\" NumberOfStrips=\"0\" NumberOfPolys=\"0\">\n");
     auto inline_array = [&](const VtpArray& a) {
       file.write(data_array(a));
       if (!binary) {
@@ -136,7 +157,14 @@ void write_vtp(const ParticleSet& particles, const std::filesystem::path& path,
     file.write("      </Points>\n      <Verts>\n");
     inline_array(connectivity);
     inline_array(offsets);
-    file.write("      </Verts>\n    </Piece>\n  </PolyData>\n");
+    file.write("      </Verts>\n");
+    if (lines) {
+      file.write("      <Lines>\n");
+      inline_array(line_connectivity);
+      inline_array(line_offsets);
+      file.write("      </Lines>\n");
+    }
+    file.write("    </Piece>\n  </PolyData>\n");
     if (binary) {
       file.write("  <AppendedData encoding=\"raw\">\n   _");
       for (const VtpArray* a : order) {
