@@ -18,6 +18,7 @@
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/fill_report.hpp"
+#include "pfill/lammps.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/render.hpp"
@@ -41,6 +42,7 @@ struct FillArgs {
   std::string stop = "blocked";
   std::string colour;
   std::string birth_speed;
+  std::string engine = "opencl";      // --engine: opencl or lammps (docs/lammps_engine.md)
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
@@ -151,6 +153,14 @@ void run_fill(FillArgs& a) {
   }
   if (!a.colour.empty()) a.options.colour = parse_colour_option(a.colour);
   if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+  // --engine lammps: every MPI rank runs the fill (SPMD); rank 0 alone prints and writes.
+  bool writer = true;
+  if (a.engine == "lammps") {
+    a.options.engine = lammps_engine_factory();  // one line when this pfill has no LAMMPS
+    a.options.finish_on_engine = true;
+    writer = lammps_mpi_start().rank == 0;
+    if (!writer) a.quiet = true, a.verbose = false, a.frames.clear();
+  }
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
@@ -173,9 +183,13 @@ void run_fill(FillArgs& a) {
     defer_interrupts_to(nullptr);
     std::fprintf(stderr, "\npfill: interrupted: the fill stopped and wrote nothing\n");
     throw ExitStatus{128 + static_cast<int>(interrupted)};  // as a shell reports a process ended by that signal
+  } catch (const Error&) {
+    if (!writer) throw ExitStatus{kExitError};  // the same error on every rank: rank 0 says it
+    throw;
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
+  if (!writer) return;
   for (const std::string& w : r.warnings) std::fprintf(stderr, "pfill: warning: %s\n", w.c_str());
 
   write_particles(r.particles, a.output, wo);
@@ -297,6 +311,11 @@ CLI::App* add_fill_command(CLI::App& app) {
                   "(default: surface when the mesh has colours, else none)");
   cmd->add_option("--skin", o.skin, "Neighbour-list skin in sigma; 0 = automatic (0.5 on CPUs, 0.3 on GPUs)")->capture_default_str();
   cmd->add_option("--sync-every", o.sync_every, "Steps between reads of the step history and positions")
+      ->capture_default_str();
+  cmd->add_option("--engine", a->engine,
+                  "Particle engine: opencl (one OpenCL device) or lammps (LAMMPS across MPI ranks: mpirun -np P "
+                  "pfill fill ... --engine lammps)")
+      ->check(CLI::IsMember({"opencl", "lammps"}))
       ->capture_default_str();
   cmd->add_option("--device", o.device, "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)");
   cmd->add_option("--report", a->report,

@@ -364,7 +364,7 @@ class FillRun {
     fill_steps_ = engine_->steps_done();
     std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
-    if (!device_) {  // FillOptions::engine: no OpenCL engine for the finish
+    if (!device_ && !o_.finish_on_engine) {  // FillOptions::engine: no OpenCL engine for the finish
       particles_ = to_particle_set(ps);
       result_.warnings.push_back("the finish was left out: it needs the OpenCL engine (FillOptions::engine was given)");
       return;
@@ -372,10 +372,12 @@ class FillRun {
     report_particles(ps.size(), 0, 0);  // the phase starts (progress lines, time left)
     const FinishSettings s = finish_settings();
     FinishStats stats;
-    particles_ = finish_packing(*device_, params_, field_, std::move(ps), s, stats, [&](size_t n, uint32_t pairs) {
+    auto progress = [&](size_t n, uint32_t pairs) {
       relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
       report_particles(n, 0, pairs);
-    });
+    };
+    particles_ = device_ ? finish_packing(*device_, params_, field_, std::move(ps), s, stats, progress)
+                         : finish_packing(o_.engine, params_, field_, std::move(ps), s, stats, progress);
     relax_steps_ = stats.steps;
     field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
     result_.relief_removed = stats.removed;
