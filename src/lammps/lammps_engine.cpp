@@ -1,13 +1,13 @@
 // The LAMMPS engine (docs/lammps_engine.md): a ParticleEngine whose
 // particles live in a LAMMPS instance on MPI_COMM_WORLD. LAMMPS owns the
 // domain decomposition, the neighbour lists, the halo exchange, the
-// migration of atoms between ranks and the pair forces (lj/cut or mie/cut
-// cut at the potential's minimum for the repulsive default, plus gran/hooke
-// with no spring as the contact dashpot); pfill's own step rules
-// (kernels/physics.cl, included here in double precision as the C++
-// reference does) run in a `fix external pf/callback` on each rank's own
-// atoms: the kick and drift with the damping and the speed cap, then the
-// wall's push from the signed distance field, and the per-step records.
+// migration of atoms between ranks and the potential's pair forces (lj/cut,
+// or mie/cut, cut at the potential's minimum for the repulsive default);
+// pfill's own step rules (kernels/physics.cl, included here in double
+// precision as the C++ reference does) run in a `fix external pf/callback`
+// on each rank's own atoms: the contact dashpot over LAMMPS' pair list, the
+// kick and drift with the damping and the speed cap, then the wall's push
+// from the signed distance field, and the per-step records.
 //
 // SPMD: every rank makes the same calls with the same arguments (the fill's
 // host loop runs on every rank), so the engine's bookkeeping of indices and
@@ -338,13 +338,15 @@ class LammpsEngine final : public ParticleEngine {
     double* rmass = static_cast<double*>(lammps_extract_atom(lmp_, "rmass"));
     LocalRecord rec;
     rec.particles = nlocal;
-    rec.colliding_pairs = count_colliding_pairs(x, radius);
+    rec.colliding_pairs = contacts(nlocal, x, v, radius, rmass);
     const ScalarGrid* field = field_;
     for (int i = 0; i < nlocal; ++i) {
       double u[3] = {v[i][0], v[i][1], v[i][2]};
       double p[3] = {x[i][0], x[i][1], x[i][2]};
       const double p0[3] = {p[0], p[1], p[2]};
-      lammps_physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], f[i][0], f[i][1], f[i][2],
+      const double* fd = &dashpot_[3 * static_cast<size_t>(i)];
+      lammps_physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], f[i][0] + fd[0], f[i][1] + fd[1],
+                                    f[i][2] + fd[2],
                                     1 / rmass[i], c.dt, c.damping_factor, c.max_speed);
       if (field) {
         double g[3];
@@ -401,7 +403,7 @@ class LammpsEngine final : public ParticleEngine {
     std::ostringstream cmd;
     cmd.precision(17);
     cmd << "units lj\natom_style sphere\natom_modify map hash\nboundary f f f\ncomm_modify vel yes\n"
-        << "newton on\n"
+        << "newton off\n"
         << "region pf_box block " << lo.x << " " << hi.x << " " << lo.y << " " << hi.y << " " << lo.z << " " << hi.z
         << "\ncreate_box 1 pf_box\n";
     // The potential: 4 eps [(sigma/d)^a - (sigma/d)^b], cut at rc (the
@@ -420,20 +422,14 @@ class LammpsEngine final : public ParticleEngine {
       coeff = "mie/cut " + num(4 * params_.eps / cm) + " " + num(c.sigma) + " " + num(a) + " " + num(b) + " " + num(rc);
       pair_line_ = "mie/cut";
     }
-    // The contact dashpot: gran/hooke with no spring and no tangential
-    // part gives -m_eff gamma_n u_n while spheres touch; pfill's is
-    // -dashpot sqrt(m_eff) u_n, equal for two particles of the reference
-    // mass (m_eff 1/2): gamma_n = dashpot sqrt(2).
-    if (c.dashpot > 0) {
-      const double gamma_n = c.dashpot * std::sqrt(2.0);
-      cmd << "pair_style hybrid/overlay " << pair << " gran/hooke 0 0 " << num(gamma_n) << " 0 0 0\n"
-          << "pair_coeff * * " << coeff << "\npair_coeff * * gran/hooke\n";
-      pair_line_ += " + gran/hooke (dashpot only, gamma_n " + num(gamma_n) + ")";
-    } else {
-      cmd << "pair_style " << pair << "\npair_coeff * * " << coeff.substr(coeff.find(' ') + 1) << "\n";
-    }
+    // The contact dashpot is pfill's own (the callback, over this pair
+    // style's list): with `newton off` a pair across ranks is listed on
+    // both, so each rank can apply it to its own atom without a reverse
+    // communication.
+    cmd << "pair_style " << pair << "\npair_coeff * * " << coeff.substr(coeff.find(' ') + 1) << "\n";
+    pair_line_ += " + pfill's contact dashpot in the callback";
     cmd << "pair_modify shift yes\n";
-    const double skin = (params_.skin_sigma > 0 ? params_.skin_sigma : 0.3) * c.sigma;
+    const double skin = (params_.skin_sigma > 0 ? params_.skin_sigma : kCpuFormSkinSigma) * c.sigma;
     cmd << "neighbor " << num(skin) << " bin\nneigh_modify delay 0 every 1 check yes\n"
         << "fix pf_step all external pf/callback 1 1\n"
         << "timestep " << num(c.dt) << "\n"
@@ -461,6 +457,11 @@ class LammpsEngine final : public ParticleEngine {
   void flush() {
     if (pending_ == 0) return;
     if (!box_made_) make_box(Box3{{-1, -1, -1}, {1, 1, 1}});
+    // Ranks' shares of the atoms even again as the fill grows (each 10% more atoms).
+    if (dirty_ && ranks_ > 1 && static_cast<double>(order_.size()) > 1.1 * balanced_at_ + 100) {
+      command("balance 1.05 shift xyz 10 1.02");
+      balanced_at_ = static_cast<double>(order_.size());
+    }
     run_start_ = steps_;
     // `pre no` skips the set-up (re-neighbouring, ghost exchange) when
     // nothing but the steps changed the atoms since the last run.
@@ -470,24 +471,46 @@ class LammpsEngine final : public ParticleEngine {
     dirty_ = false;
   }
 
-  /// Pairs of this rank's list whose spheres overlap (d < r_i + r_j). With
-  /// newton on each pair is listed on one rank only.
-  double count_colliding_pairs(double** x, const double* radius) {
-    int list = lammps_find_pair_neighlist(lmp_, constants_.dashpot > 0 ? "gran/hooke" : pair_name(), 1, 0, 0);
-    if (list < 0) list = lammps_find_pair_neighlist(lmp_, pair_name(), 1, 0, 0);
+  /// Over this rank's pair list (the pair style's, `newton off`: a pair
+  /// with a ghost is listed on both its ranks): the contact dashpot of
+  /// physics.cl on this rank's atoms into dashpot_, and the pairs whose
+  /// spheres overlap (d < r_i + r_j; a pair with a ghost counts half, so
+  /// the sum over ranks counts it once). Positions and velocities are the
+  /// step's start (ghosts' from this step's communication).
+  double contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
+    dashpot_.assign(3 * static_cast<size_t>(nlocal), 0.0);
+    const int list = lammps_find_pair_neighlist(lmp_, pair_name(), 1, 0, 0);
     if (list < 0) return 0;
+    const EngineConstants& c = constants_;
+    const double contact2 = c.contact_distance * c.contact_distance;
+    const bool damp = c.dashpot > 0;
     const int n = lammps_neighlist_num_elements(lmp_, list);
     double count = 0;
     for (int e = 0; e < n; ++e) {
       int i = 0, nn = 0;
       int* neigh = nullptr;
       lammps_neighlist_element_neighbors(lmp_, list, e, &i, &nn, &neigh);
+      if (i >= nlocal) continue;
       const double* xi = x[i];
       for (int k = 0; k < nn; ++k) {
         const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
         const double dx = xi[0] - x[j][0], dy = xi[1] - x[j][1], dz = xi[2] - x[j][2];
+        const double d2 = dx * dx + dy * dy + dz * dz;
         const double rs = radius[i] + radius[j];
-        if (dx * dx + dy * dy + dz * dz < rs * rs) ++count;
+        if (d2 >= std::max(rs * rs, contact2)) continue;
+        const bool mine = j < nlocal;
+        if (d2 < rs * rs) count += mine ? 1 : 0.5;
+        if (!damp || !(d2 > 0)) continue;
+        const double inv_d = 1 / std::sqrt(d2);
+        const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+        const double un = (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
+        const double cd = lammps_physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot);
+        double* fi = &dashpot_[3 * static_cast<size_t>(i)];
+        fi[0] += cd * nx, fi[1] += cd * ny, fi[2] += cd * nz;
+        if (mine) {
+          double* fj = &dashpot_[3 * static_cast<size_t>(j)];
+          fj[0] -= cd * nx, fj[1] -= cd * ny, fj[2] -= cd * nz;
+        }
       }
     }
     return count;
@@ -542,7 +565,9 @@ class LammpsEngine final : public ParticleEngine {
   uint64_t steps_ = 0, run_start_ = 0, history_first_ = 0;
   size_t pending_ = 0;
   bool dirty_ = true;
+  double balanced_at_ = 0;  // the atom count at the last `balance`
   std::vector<LocalRecord> local_history_;
+  std::vector<double> dashpot_;  // the contact dashpot's force on each of this rank's atoms, this step
   std::unordered_set<int> flagged_tags_;  // this rank's atoms flagged outside since clear_flags
   std::unordered_set<int> lost_;          // tags LAMMPS dropped (the same on every rank)
 };
