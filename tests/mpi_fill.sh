@@ -8,6 +8,8 @@
 set -euo pipefail
 pfill=$1 mpirun=$2 np=$3
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# Ranks that wait yield the core (a shared or oversubscribed machine: busy-polling ranks starve each other)
+export OMPI_MCA_mpi_yield_when_idle=1
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 run() { "$mpirun" --oversubscribe -np "$np" "$@"; }
