@@ -13,6 +13,7 @@ PACKAGES=(
   libcli11-dev doctest-dev
   oclgrind
   pybind11-dev python3-dev python3-numpy python3-pytest
+  liblammps-dev libopenmpi-dev openmpi-bin  # the LAMMPS engine (--engine lammps; optional in the build)
 )
 
 # The Khronos glTF validator (an npm package) checks our GLB files in the

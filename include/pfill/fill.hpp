@@ -131,6 +131,9 @@ struct FillOptions {
   /// engine, is left out: the result is the settled packing, repaired for
   /// containment and measured.
   std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> engine;
+  /// With `engine`: the finish runs on engines it makes too (the LAMMPS
+  /// engine), instead of being left out.
+  bool finish_on_engine = false;
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;

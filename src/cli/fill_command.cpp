@@ -28,6 +28,7 @@
 #include "pfill/fill.hpp"
 #include "pfill/fill_report.hpp"
 #include "pfill/fill_settings.hpp"
+#include "pfill/lammps.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/render.hpp"
@@ -47,6 +48,7 @@ struct FillArgs {
   std::string frames;
   uint64_t frame_every = 500;
   std::map<std::string, std::string> settings;  // FillOptions by name (fill_settings.hpp), as typed
+  std::string engine = "opencl";      // --engine: opencl or lammps (docs/lammps_engine.md)
   bool spheres = false;
   bool velocities = false;
   bool quiet = false;
@@ -191,6 +193,14 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
   std::unique_ptr<ShellRun> shell;  // --shell: the fill in the mesh moved in by the shell's radius
   if (a.shell.shell) shell = std::make_unique<ShellRun>(a.shell, mesh, a.options);
+  // --engine lammps: every MPI rank runs the fill (SPMD); rank 0 alone prints and writes.
+  bool writer = true;
+  if (a.engine == "lammps") {
+    a.options.engine = lammps_engine_factory();  // one line when this pfill has no LAMMPS
+    a.options.finish_on_engine = true;
+    writer = lammps_mpi_start().rank == 0;
+    if (!writer) a.quiet = true, a.verbose = false, a.frames.clear();
+  }
 
   ProgressPrinter printer(a.quiet);
   a.options.progress = [&printer](const FillProgress& p) { printer(p); };
@@ -219,10 +229,12 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
     throw ExitStatus{128 + static_cast<int>(interrupted)};  // as a shell reports a process ended by that signal
   } catch (const Error& e) {
     defer_interrupts_to(nullptr);
+    if (!writer) throw ExitStatus{kExitError};  // the same error on every rank: rank 0 says it
     throw Error(with_flags(e.what()));  // the library names its settings as C++ does
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
+  if (!writer) return;
   if (shell) {
     shell->join(r);  // r.particles: the inner spheres, then the shell's
     wo.attributes = &shell->attributes();
@@ -304,6 +316,11 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
     opt->type_name(setting.value_form);
     opt->group(setting.tier == SettingTier::User ? "Options" : show_all ? "Tuning" : "");
   }
+  cmd->add_option("--engine", a->engine,
+                  "Particle engine: opencl (one OpenCL device) or lammps (LAMMPS across MPI ranks: mpirun -np P "
+                  "pfill fill ... --engine lammps)")
+      ->check(CLI::IsMember({"opencl", "lammps"}))
+      ->capture_default_str();
   cmd->add_option("--report", a->report,
                   "Write the metrics and the run's figures as JSON to this file (- : standard output, instead of "
                   "the summary)");

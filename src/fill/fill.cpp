@@ -118,18 +118,19 @@ class FillRun {
     next_id_ = next_id;
     std::vector<Particle> ps = engine_->read_particles();
     engine_.reset();  // the finish holds the particles from here on
-    if (!device_) {  // FillOptions::engine: no OpenCL engine for the finish
+    if (!device_ && !o_.finish_on_engine) {  // FillOptions::engine: no OpenCL engine for the finish
       particles_ = to_particle_set(ps);
       result_.warnings.push_back("the finish was left out: it needs the OpenCL engine (FillOptions::engine was given)");
       return;
     }
     reporter_.report(ps.size(), 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
     FinishStats stats;
-    particles_ = finish_packing(*device_, params_, field_, std::move(ps), finish_settings(), stats,
-                                [&](size_t n, uint32_t pairs) {
-                                  relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
-                                  reporter_.report(n, 0, pairs, fill_steps_ + relax_steps_, relax_steps_);
-                                });
+    auto progress = [&](size_t n, uint32_t pairs) {
+      relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
+      reporter_.report(n, 0, pairs, fill_steps_ + relax_steps_, relax_steps_);
+    };
+    particles_ = device_ ? finish_packing(*device_, params_, field_, std::move(ps), finish_settings(), stats, progress)
+                         : finish_packing(o_.engine, params_, field_, std::move(ps), finish_settings(), stats, progress);
     relax_steps_ = stats.steps;
     field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
     result_.finish_removed = stats.removed;

@@ -42,8 +42,8 @@ ParticleSet to_set(const std::vector<Particle>& ps, double radius) {
 
 class Finisher {
  public:
-  Finisher(Device& device, const EngineParams& base, const ScalarGrid& field, const FinishSettings& s,
-           FinishStats& stats)
+  Finisher(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make, const EngineParams& base,
+           const ScalarGrid& field, const FinishSettings& s, FinishStats& stats)
       : s_(s), field_(field), stats_(stats) {
     const double inflation = std::isnan(s.inflation) ? finish_inflation(s.max_overlap) : s.inflation;
     // The engine's spheres are smaller by half the bound, so that the
@@ -66,7 +66,7 @@ class Finisher {
     // misses some of the surface's bends, which the exact check then finds.
     // (The kernels add the offset as they read the field: no shifted copy.)
     p.wall_offset = s.radius * (1 + s.wall_margin) - engine_radius_;
-    engine_ = std::make_unique<Engine>(device, p);
+    engine_ = make(p);
     engine_->share_field(field);  // field_ outlives the engine
   }
 
@@ -288,7 +288,7 @@ class Finisher {
   double engine_radius_ = 0;
   double deep_ = 0;  ///< how deep (by the field) a centre must lie
   uint64_t next_id_ = s_.first_id;  ///< the next inserted sphere's id
-  std::unique_ptr<Engine> engine_;
+  std::unique_ptr<ParticleEngine> engine_;
   std::function<void(size_t, uint32_t)> progress_;
 };
 
@@ -306,7 +306,15 @@ double finish_inflation(double max_overlap) {
 ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
                            std::vector<Particle> particles, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress) {
-  Finisher f(device, base, field, settings, stats);
+  return finish_packing([&device](const EngineParams& p) { return std::make_unique<Engine>(device, p); }, base, field,
+                        std::move(particles), settings, stats, progress);
+}
+
+ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
+                           const EngineParams& base, const ScalarGrid& field, std::vector<Particle> particles,
+                           const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress) {
+  Finisher f(make, base, field, settings, stats);
   f.set_progress(progress);
   return f.run(std::move(particles));
 }

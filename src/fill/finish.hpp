@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "pfill/engine/engine.hpp"
@@ -65,6 +66,13 @@ struct FinishStats {
 /// is called after every read of the step history and every relaxation.
 ParticleSet finish_packing(Device& device, const EngineParams& base, const ScalarGrid& field,
                            std::vector<Particle> particles, const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress = {});
+
+/// The same on engines that `make` builds (FillOptions::engine: e.g. the
+/// LAMMPS engine) instead of the OpenCL Engine on a device.
+ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
+                           const EngineParams& base, const ScalarGrid& field, std::vector<Particle> particles,
+                           const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress = {});
 
 /// The automatic inflation for a bound (fraction of r): a relaxed pair

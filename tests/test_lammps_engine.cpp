@@ -1,0 +1,222 @@
+// The LAMMPS engine (src/lammps/lammps_engine.cpp) against the C++
+// reference engine on the same input, its bookkeeping (births, removals,
+// ids, flags), and a small fill on it, finish included. ctest runs this
+// file as it is (one process: MPI as a singleton) and under
+// `mpirun -np 2` (tests/CMakeLists.txt: mpi2.test_lammps_engine), where
+// every rank runs the same calls and LAMMPS splits the atoms between them.
+// Without LAMMPS built in, only the one-line refusal is checked.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "pfill/engine/reference.hpp"
+#include "pfill/error.hpp"
+#include "pfill/fill.hpp"
+#include "pfill/lammps.hpp"
+#include "pfill/packing_metrics.hpp"
+#include "pfill/shapes.hpp"
+
+using namespace pfill;
+
+namespace {
+
+// A ball of radius R at the origin as a signed distance grid.
+ScalarGrid ball_field(double R, double spacing) {
+  return sampled_grid(R + 0.2, spacing, [R](const Vec3& p) { return length(p) - R; });
+}
+
+EngineParams small_params() {
+  EngineParams p;
+  p.radius = 0.05;
+  p.max_radius = p.radius * (1 + 1e-6);
+  p.restitution = 0.5;
+  p.wall_restitution = 0.5;
+  p.damping = 0.5;
+  p.dt = 0.01 * derive_constants(p).tau;
+  p.max_step_fraction = 0.1;
+  return p;
+}
+
+// Particles on a jittered lattice inside the ball, some overlapping, moving.
+std::vector<Particle> lattice(double R, double spacing, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Particle> ps;
+  uint64_t id = 100;
+  for (double x = -R; x <= R; x += spacing)
+    for (double y = -R; y <= R; y += spacing)
+      for (double z = -R; z <= R; z += spacing) {
+        Particle p;
+        p.position = Vec3{x, y, z} + Vec3{u(rng), u(rng), u(rng)} * (0.08 * spacing);
+        if (length(p.position) > R - 0.06) continue;
+        p.velocity = Vec3{u(rng), u(rng), u(rng)} * 0.2;
+        p.radius = 0.05;
+        p.id = id++;
+        ps.push_back(p);
+      }
+  return ps;
+}
+
+Vec3 momentum(const std::vector<Particle>& ps) {
+  Vec3 m;
+  for (const Particle& p : ps) m += p.velocity * p.mass;
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("lammps engine: without LAMMPS built in, one line says so") {
+  if (lammps_available()) {
+    CHECK(lammps_mpi_start().size >= 1);
+    return;
+  }
+  CHECK_THROWS_WITH_AS(make_lammps_engine(small_params()), doctest::Contains("built without LAMMPS"), Error);
+}
+
+TEST_CASE("lammps engine: the same steps as the reference engine (positions, records, momentum)") {
+  if (!lammps_available()) return;
+  const EngineParams p = small_params();
+  const ScalarGrid field = ball_field(0.5, 0.02);
+  const std::vector<Particle> start = lattice(0.5, 0.098, 7);
+  REQUIRE(start.size() > 200);
+
+  ReferenceEngine ref(p);
+  ref.set_field(field);
+  ref.add_particles(start);
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
+  lmp->share_field(field);
+  CHECK(lmp->add_particles(start) == 0);
+  REQUIRE(lmp->size() == start.size());
+  CHECK(lmp->describe().find("LAMMPS") != std::string::npos);
+
+  const Vec3 p0 = momentum(lmp->read_particles());
+  for (int round = 0; round < 3; ++round) {
+    ref.run_steps(10);
+    lmp->run_steps(10);
+    const std::vector<StepRecord> hr = ref.read_history(), hl = lmp->read_history();
+    REQUIRE(hl.size() == hr.size());
+    for (size_t s = 0; s < hr.size(); ++s) {
+      CHECK(hl[s].step == hr[s].step);
+      CHECK(hl[s].particles == hr[s].particles);
+      CHECK(hl[s].colliding_pairs == hr[s].colliding_pairs);
+      CHECK(hl[s].flagged == hr[s].flagged);
+      CHECK(hl[s].kinetic_energy == doctest::Approx(hr[s].kinetic_energy).epsilon(1e-6));
+      CHECK(hl[s].max_speed == doctest::Approx(hr[s].max_speed).epsilon(1e-6));
+    }
+  }
+  const std::vector<Particle> a = ref.read_particles(), b = lmp->read_particles();
+  REQUIRE(a.size() == b.size());
+  double worst = 0, worst_v = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    CHECK(b[i].id == a[i].id);
+    worst = std::max(worst, length(a[i].position - b[i].position));
+    worst_v = std::max(worst_v, length(a[i].velocity - b[i].velocity));
+    CHECK(length(b[i].position) <= 0.5 - 0.05 + 1e-3);  // inside the ball's wall
+  }
+  INFO("largest position difference " << worst << ", velocity " << worst_v);
+  CHECK(worst < 1e-9);
+  CHECK(worst_v < 1e-7);
+  CHECK(lmp->steps_done() == 30);
+  (void)p0;
+}
+
+TEST_CASE("lammps engine: momentum is conserved without a wall or damping") {
+  if (!lammps_available()) return;
+  EngineParams p = small_params();
+  p.damping = 0;
+  p.domain = Box3{{-0.6, -0.6, -0.6}, {0.6, 0.6, 0.6}};
+  std::vector<Particle> start = lattice(0.3, 0.095, 11);
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
+  lmp->add_particles(start);
+  const Vec3 m0 = momentum(lmp->read_particles());
+  lmp->run_steps(40);
+  const std::vector<StepRecord> h = lmp->read_history();
+  REQUIRE(h.size() == 40);
+  CHECK(h.back().colliding_pairs > 0);  // the lattice overlaps: forces and dashpots act
+  const std::vector<Particle> now = lmp->read_particles();
+  const Vec3 m1 = momentum(now);
+  INFO("momentum before " << m0.x << "," << m0.y << "," << m0.z << " after " << m1.x << "," << m1.y << "," << m1.z);
+  CHECK(length(m1 - m0) < 1e-10 * (1 + length(m0)));
+}
+
+TEST_CASE("lammps engine: births, removals, flags and ids as the reference keeps them") {
+  if (!lammps_available()) return;
+  const EngineParams p = small_params();
+  const ScalarGrid field = ball_field(0.5, 0.02);
+  ReferenceEngine ref(p);
+  ref.set_field(field);
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
+  lmp->share_field(field);
+  std::vector<Particle> start = lattice(0.5, 0.11, 3);
+  // One particle outside the wall: flagged by both after a step.
+  Particle out;
+  out.position = {0.52, 0, 0};
+  out.radius = 0.05;
+  out.id = 9999;
+  start.push_back(out);
+  ref.add_particles(start);
+  lmp->add_particles(start);
+  ref.run_steps(1);
+  lmp->run_steps(1);
+  CHECK(lmp->read_history().back().flagged == ref.read_history().back().flagged);
+  CHECK(lmp->flagged_particles() == ref.flagged_particles());
+  lmp->clear_flags();
+  ref.clear_flags();
+  const std::vector<size_t> gone = {3, 0, static_cast<size_t>(start.size() - 1), 17};
+  ref.remove_particles(gone);
+  lmp->remove_particles(gone);
+  REQUIRE(lmp->size() == ref.size());
+  // Newborns where the removed ones were (room there: no deep overlaps,
+  // where the reference's pair force cap, which LAMMPS lacks, would act).
+  std::vector<Particle> more;
+  for (size_t k : {size_t(3), size_t(0), size_t(17)}) {
+    Particle q = start[k];
+    q.id += 5000;
+    q.velocity = {0.1, -0.1, 0.05};
+    more.push_back(q);
+  }
+  CHECK(lmp->add_particles(more) == ref.add_particles(more));
+  ref.run_steps(5);
+  lmp->run_steps(5);
+  const std::vector<Particle> a = ref.read_particles(), b = lmp->read_particles();
+  REQUIRE(a.size() == b.size());
+  double worst = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i].id == b[i].id);
+    worst = std::max(worst, length(a[i].position - b[i].position));
+  }
+  CHECK(worst < 1e-9);
+  std::vector<size_t> order = lmp->sort_by_cells();
+  CHECK(order.size() == a.size());
+}
+
+TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {
+  if (!lammps_available()) return;
+  FillOptions o;
+  o.count = 300;
+  o.seed = 2;
+  o.colour = ColourOptions{ColourMode::None, {}};
+  o.engine = lammps_engine_factory();
+  o.finish_on_engine = true;
+  std::string logged;
+  o.log = [&logged](const std::string& line) { logged += line + "\n"; };
+  const FillResult r = fill(make_icosphere(1.0, 3), o);
+  CHECK(logged.find("LAMMPS") != std::string::npos);
+  INFO("particles " << r.metrics.count << ", packing " << r.metrics.packing_fraction << ", largest overlap "
+                    << r.metrics.max_overlap << ", stop " << r.stop_reason);
+  bool left_out = false;
+  for (const std::string& w : r.warnings) left_out = left_out || w.find("finish was left out") != std::string::npos;
+  CHECK_FALSE(left_out);
+  CHECK(r.relief_rounds >= 1);
+  CHECK(r.metrics.contained_share == 1.0);
+  CHECK(r.metrics.max_overlap <= o.max_overlap + 1e-9);
+  // The OpenCL engine packs a sphere at -n 300 to 0.55-0.60 (about 290-310 spheres).
+  CHECK(r.particles.size() >= 250);
+  CHECK(r.particles.size() <= 340);
+  CHECK(r.metrics.packing_fraction > 0.5);
+}
