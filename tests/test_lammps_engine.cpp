@@ -212,7 +212,7 @@ TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {
   bool left_out = false;
   for (const std::string& w : r.warnings) left_out = left_out || w.find("finish was left out") != std::string::npos;
   CHECK_FALSE(left_out);
-  CHECK(r.relief_rounds >= 1);
+  CHECK(r.finish_rounds >= 1);
   CHECK(r.metrics.contained_share == 1.0);
   CHECK(r.metrics.max_overlap <= o.max_overlap + 1e-9);
   // The OpenCL engine packs a sphere at -n 300 to 0.55-0.60 (about 290-310 spheres).

@@ -534,7 +534,7 @@ class LammpsEngine final : public ParticleEngine {
         const double inv_d = 1 / std::sqrt(d2);
         const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
         const double un = (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
-        const double cd = lammps_physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot);
+        const double cd = lammps_physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0);  // equal radii: the pair scale is 1 (unequal radii on LAMMPS: not yet)
         double* fi = &dashpot_[3 * static_cast<size_t>(i)];
         fi[0] += cd * nx, fi[1] += cd * ny, fi[2] += cd * nz;
         if (mine) {
