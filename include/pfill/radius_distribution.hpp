@@ -94,6 +94,7 @@ class RadiusDistribution {
   double a_ = 1, b_ = 1;        ///< the law's two numbers (min,max / median,sigma / mean,std)
   std::vector<double> radii_;   ///< discrete classes or sieve rows, ascending
   std::vector<double> shares_;  ///< discrete: number shares (normalised); sieve: cumulative volume
+  struct Impl;                  ///< the helpers of src/fill/radius_distribution.cpp
 };
 
 /// How close a set of radii comes to a distribution.
@@ -110,6 +111,10 @@ struct DistributionFit {
   /// cdf against the law's (by number); discrete: the largest error of a
   /// class's share in the basis the fractions were given in.
   double distance = 0;
+  /// true: `distance` is the largest class share error (discrete, equal),
+  /// in `basis`; false: the Kolmogorov-Smirnov distance.
+  bool class_error = false;
+  FractionBasis basis = FractionBasis::Number;
   double mean = 0, stddev = 0, skewness = 0;  ///< of the radii given
   std::string describe() const;  ///< one line per class, then the distance
 };
