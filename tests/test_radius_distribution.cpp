@@ -4,11 +4,10 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
 
+#include "mesh_writers.hpp"
 #include "pfill/error.hpp"
 #include "pfill/radius_distribution.hpp"
 
@@ -57,10 +56,10 @@ std::vector<double> draw(const RadiusDistribution& d, size_t n, uint64_t seed, i
   return radii;
 }
 
-std::string temp_file(const std::string& name, const std::string& text) {
-  const auto path = std::filesystem::temp_directory_path() / name;
-  std::ofstream(path) << text;
-  return path.string();
+std::string temp_file(const test::TempDir& dir, const std::string& name, const std::string& text) {
+  const std::string path = dir.file(name);
+  test::write_text(path, text);
+  return path;
 }
 }  // namespace
 
@@ -150,7 +149,8 @@ TEST_CASE("normal: cut at 3 sigma and floored at a share of the mean") {
 }
 
 TEST_CASE("quantile inverts cdf") {
-  const std::string csv = temp_file("pfill_test_sieve_roundtrip.csv", "0.5,0\n1,0.4\n2,1\n");
+  const test::TempDir dir("radii_roundtrip");
+  const std::string csv = temp_file(dir, "pfill_test_sieve_roundtrip.csv", "0.5,0\n1,0.4\n2,1\n");
   for (const std::string spec : {"uniform:0.5,1.5", "lognormal:1,0.2", "lognormal:2,1", "normal:1,0.1",
                                  "normal:1,0.5", csv.c_str()}) {
     CAPTURE(spec);
@@ -169,22 +169,21 @@ TEST_CASE("quantile inverts cdf") {
   const auto k = RadiusDistribution::parse("discrete:1:0.2,2:0.3,3:0.5");
   for (double r : {1.0, 2.0, 3.0}) CHECK(k.quantile(k.cdf(r)) == r);
   // A sieve curve's share at its smallest radius: an atom of the cdf.
-  const std::string atom = temp_file("pfill_test_sieve_atom.csv", "0.5,0.1\n1,0.4\n2,1\n");
+  const std::string atom = temp_file(dir, "pfill_test_sieve_atom.csv", "0.5,0.1\n1,0.4\n2,1\n");
   const auto a = RadiusDistribution::parse(atom);
   const double w0 = a.cdf(0.5);
   CHECK(w0 == doctest::Approx(0.8 / 1.925));
   CHECK(a.cdf(0.4999) == 0);
   CHECK(a.quantile(0.5 * w0) == 0.5);
   CHECK(a.quantile(w0 + 0.01) > 0.5);
-  std::filesystem::remove(atom);
-  std::filesystem::remove(csv);
 }
 
 TEST_CASE("draws through the size classes reproduce the law") {
-  const std::string csv = temp_file("pfill_test_sieve_draws.csv", "radius,passing\n0.5,0.1\n1,0.4\n2,1\n");
+  const test::TempDir dir("radii_draws");
+  const std::string csv = temp_file(dir, "pfill_test_sieve_draws.csv", "radius,passing\n0.5,0.1\n1,0.4\n2,1\n");
   uint64_t seed = 29;
-  for (const std::string spec : {"uniform:0.5,1.5", "lognormal:1,0.2", "normal:1,0.5", "lognormal:1,0.6", csv.c_str(),
-                                 "discrete:1:0.2,2:0.3,3:0.5"}) {
+  for (const std::string spec : {"uniform:0.5,1.5", "lognormal:1,0.2", "normal:1,0.5", "lognormal:1,0.6",
+                                 csv.c_str(), "discrete:1:0.2,2:0.3,3:0.5"}) {
     CAPTURE(spec);
     const auto d = RadiusDistribution::parse(spec);
     const std::vector<double> radii = draw(d, 100000, seed++);
@@ -205,13 +204,13 @@ TEST_CASE("draws through the size classes reproduce the law") {
   // A law the radii do not follow is told apart.
   const auto d = RadiusDistribution::parse("lognormal:1,0.2");
   CHECK(compare_distribution(d, draw(RadiusDistribution::parse("lognormal:1.1,0.2"), 20000, 1)).distance > 0.1);
-  std::filesystem::remove(csv);
 }
 
 TEST_CASE("a sieve curve from a CSV file") {
+  const test::TempDir dir("radii_sieve");
   // A header, CRLF ends, a comment, a share at the smallest radius.
   const std::string path =
-      temp_file("pfill_test_sieve.csv", "radius,cumulative\r\n# sieved 2026\r\n0.5,0.1\r\n1,0.3\r\n2,0.8\r\n4,1\r\n");
+      temp_file(dir, "pfill_test_sieve.csv", "radius,cumulative\r\n# sieved 2026\r\n0.5,0.1\r\n1,0.3\r\n2,0.8\r\n4,1\r\n");
   const auto d = RadiusDistribution::parse(path);
   CHECK(d.law() == Law::Sieve);
   CHECK(d.basis() == FractionBasis::Volume);
@@ -239,18 +238,17 @@ TEST_CASE("a sieve curve from a CSV file") {
   }
   CHECK(d.mean_cube() == doctest::Approx(cube + classes[0].number_share * 0.125).epsilon(1e-10));
   // Percent, semicolons.
-  const std::string pct = temp_file("pfill_test_sieve_pct.csv", "0.5;0\n1;30\n2;100\n");
+  const std::string pct = temp_file(dir, "pfill_test_sieve_pct.csv", "0.5;0\n1;30\n2;100\n");
   const auto p = RadiusDistribution::parse(pct);
   REQUIRE(p.size_classes().size() == 2);
   CHECK(p.size_classes()[0].volume_share == doctest::Approx(0.3));
   CHECK(p.scaled(2).max_radius() == 4);
   CHECK(p.describe().find("sieve curve") == 0);
-  std::filesystem::remove(path);
-  std::filesystem::remove(pct);
 }
 
 TEST_CASE("every bad SPEC is one line naming radii") {
-  const std::string missing = (std::filesystem::temp_directory_path() / "pfill_no_such_curve.csv").string();
+  const test::TempDir dir("radii_bad");
+  const std::string missing = dir.file("no_such_curve.csv");
   const std::string csv_bad[] = {"1,0\n2,0.5\n", "1,0\n0.5,1\n", "1,0.5\n2,0.4\n3,1\n", "1,0\nx,y\n2,1\n",
                                  "1,0\n2,1,3\n", "-1,0\n2,1\n", "1,0\n2,nan\n", "1,1\n", "", "1,0\n1,1\n"};
   std::vector<std::string> specs = {"",
@@ -282,7 +280,7 @@ TEST_CASE("every bad SPEC is one line naming radii") {
                                     "1.5",
                                     missing};
   for (size_t i = 0; i < std::size(csv_bad); ++i)
-    specs.push_back(temp_file("pfill_test_bad_" + std::to_string(i) + ".csv", csv_bad[i]));
+    specs.push_back(temp_file(dir, "bad_" + std::to_string(i) + ".csv", csv_bad[i]));
   for (const std::string& spec : specs) {
     CAPTURE(spec);
     try {
@@ -297,8 +295,6 @@ TEST_CASE("every bad SPEC is one line naming radii") {
   CHECK_THROWS_AS(parse_fraction_basis("mass"), Error);
   CHECK_THROWS_AS(RadiusDistribution::parse("uniform:1,2").scaled(0), Error);
   CHECK_THROWS_AS(RadiusDistribution::equal(-1), Error);
-  for (size_t i = 0; i < std::size(csv_bad); ++i)
-    std::filesystem::remove(std::filesystem::temp_directory_path() / ("pfill_test_bad_" + std::to_string(i) + ".csv"));
 }
 
 TEST_CASE("scaled: radii times s, shape kept, spec as given") {
@@ -331,6 +327,7 @@ TEST_CASE("equal spheres and the fraction basis") {
   CHECK(RadiusDistribution::parse("uniform:1,1").is_equal());
   CHECK(RadiusDistribution::parse("lognormal:3,0").is_equal());
   CHECK(RadiusDistribution::parse(" normal:1.5, 0 ").mean() == 1.5);
+  CHECK(RadiusDistribution::parse("LogNormal:1,0.2").law() == Law::Lognormal);
   const DistributionFit fit = compare_distribution(e, {2, 2, 2});
   CHECK(fit.distance == 0);
   CHECK(fit.class_error);

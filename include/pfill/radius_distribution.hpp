@@ -58,9 +58,10 @@ class RadiusDistribution {
   bool is_equal() const;                 ///< one radius only (Equal, or one discrete class)
   const std::string& spec() const { return spec_; }  ///< the text parsed ("" for equal())
   FractionBasis basis() const { return basis_; }
-  /// The same law with every radius times `s` (> 0).
+  /// The same law with every radius times `s` (> 0). spec() stays the text
+  /// parsed; describe() shows the scaled numbers.
   RadiusDistribution scaled(double s) const;
-  /// One line: "lognormal, median 1, sigma of ln r 0.2 (cut at 3 sigma)".
+  /// One line: "lognormal, median 1, sigma of ln r 0.2 (cut at 3 sigma), radii 0.549..1.82".
   std::string describe() const;
 
   // ---- moments of the radius by number (what one sphere drawn follows) ----

@@ -1,22 +1,20 @@
 // Sphere size distributions (radius_distribution.hpp): the SPEC forms, the
-// moments of the truncated laws, the classes births draw by, and how close
-// a set of radii comes to a law. Errors name the setting `radii` as their
-// first word, so with_flags() shows it as --radii.
+// moments of the truncated laws and the classes births draw by. Errors name
+// the setting `radii` as their first word, so with_flags() shows it as
+// --radii (radius_spec.hpp reads the text).
 #include "pfill/radius_distribution.hpp"
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <cstring>
-#include <fstream>
 
+#include "fill/radius_spec.hpp"
 #include "fill/short_number.hpp"
 #include "pfill/error.hpp"
 
 namespace pfill {
+using namespace radius_spec;
 namespace {
 
 using Law = RadiusDistribution::Law;
@@ -24,7 +22,6 @@ constexpr double kSqrt2 = 1.4142135623730951;
 constexpr const char* kForms =
     "expected uniform:MIN,MAX, lognormal:MEDIAN,SIGMA, normal:MEAN,STD, discrete:R1:F1,R2:F2,... or a sieve "
     "curve FILE.csv";
-constexpr const char* kRows = "expected rows \"radius,cumulative volume fraction\" by ascending radius, ending at 1";
 
 double density(double z) { return 0.3989422804014327 * std::exp(-0.5 * z * z); }
 double lower(double z) { return 0.5 * std::erfc(-z / kSqrt2); }  // Phi(z)
@@ -75,56 +72,11 @@ double gauss(double lo, double hi, int panels, G g) {
   return sum;
 }
 
-std::string trim(const std::string& s) {
-  size_t b = 0, e = s.size();
-  while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
-  while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
-  return s.substr(b, e - b);
-}
-
-std::vector<std::string> split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  for (size_t i = 0; i <= s.size(); ++i)
-    if (i == s.size() || s[i] == sep) {
-      out.push_back(trim(s.substr(start, i - start)));
-      start = i + 1;
-    }
-  return out;
-}
-
-// Parses the whole of `text` as a number (NaN and inf included; callers refuse those).
-bool read_number(const std::string& text, double& v) {
-  if (text.empty()) return false;
-  char* end = nullptr;
-  v = std::strtod(text.c_str(), &end);
-  return end == text.c_str() + text.size();
-}
-
-[[noreturn]] void refuse(const std::string& spec, const std::string& what) {
-  throw Error("radii \"" + excerpt(spec, 60) + "\": " + what);
-}
-
 std::string g3(double v) {
   char b[32];
   std::snprintf(b, sizeof b, "%.3g", v);
   return b;
 }
-
-// The numbers of "law:A,B", `count` of them, finite.
-std::vector<double> law_numbers(const std::string& spec, const std::string& args, size_t count,
-                                const std::string& form, const std::string& example) {
-  const std::string hint = "expected " + form + " (e.g. " + example + ")";
-  const std::vector<std::string> parts = split(args, ',');
-  if (parts.size() != count) refuse(spec, hint);
-  std::vector<double> v(count);
-  for (size_t i = 0; i < count; ++i) {
-    if (!read_number(parts[i], v[i])) refuse(spec, "\"" + excerpt(parts[i]) + "\" is not a number; " + hint);
-    if (!std::isfinite(v[i])) refuse(spec, excerpt(parts[i]) + " is not a finite number; " + hint);
-  }
-  return v;
-}
-
 }  // namespace
 
 // The private helpers: the continuous laws in their own variable t (r for
@@ -221,83 +173,6 @@ struct RadiusDistribution::Impl {
     }
   }
 
-  static void read_sieve(RD& d, const std::string& spec, const std::string& path) {
-    std::ifstream in(path);
-    if (!in)
-      refuse(spec, std::string("cannot read the sieve curve (") + std::strerror(errno) +
-                       "); give the path of a CSV file of rows \"radius,cumulative volume fraction\"");
-    std::string line;
-    bool first = true;  // the first line of content may be a header
-    for (int n = 1; std::getline(in, line); ++n) {
-      line = trim(line);
-      if (line.empty() || line[0] == '#') continue;
-      const char sep = line.find(',') != std::string::npos ? ',' : line.find(';') != std::string::npos ? ';' : '\t';
-      const std::vector<std::string> f = split(line, sep);
-      const std::string at = "line " + std::to_string(n) + ": ";
-      double r = 0, c = 0;
-      const bool header_allowed = first;
-      first = false;
-      if (header_allowed && !read_number(f[0], r)) continue;  // a header line
-      if (f.size() != 2) refuse(spec, at + std::to_string(f.size()) + " fields; " + kRows);
-      if (!read_number(f[0], r) || !read_number(f[1], c))
-        refuse(spec, at + "\"" + excerpt(line) + "\" is not two numbers; " + kRows);
-      if (!std::isfinite(r) || !std::isfinite(c)) refuse(spec, at + "a number is not finite; " + kRows);
-      if (!(r > 0)) refuse(spec, at + "radius " + short_number(r) + " is not positive; " + kRows);
-      if (c < 0) refuse(spec, at + "cumulative fraction " + short_number(c) + " is negative; " + kRows);
-      if (!d.radii_.empty() && !(r > d.radii_.back()))
-        refuse(spec, at + "radius " + short_number(r) + " is not above the previous row's " +
-                         short_number(d.radii_.back()) + "; sort the rows by radius, each radius once");
-      if (!d.shares_.empty() && c < d.shares_.back())
-        refuse(spec, at + "cumulative fraction " + short_number(c) + " falls below the previous row's " +
-                         short_number(d.shares_.back()) + "; a sieve curve never decreases");
-      d.radii_.push_back(r);
-      d.shares_.push_back(c);
-    }
-    if (d.radii_.size() < 2) refuse(spec, "the sieve curve has fewer than two rows; " + std::string(kRows));
-    // Percent is taken when the curve ends at 100.
-    double end = d.shares_.back();
-    if (std::abs(end - 100) <= 1e-4) {
-      for (double& c : d.shares_) c /= 100;
-      end = d.shares_.back();
-    }
-    if (std::abs(end - 1) > 1e-6)
-      refuse(spec, "the sieve curve ends at " + short_number(end) + "; its last cumulative fraction must be 1 (or 100 "
-                   "for percent)");
-    for (double& c : d.shares_) c = std::min(c, 1.0);
-    d.shares_.back() = 1;
-  }
-
-  static void read_discrete(RD& d, const std::string& spec, const std::string& args, FractionBasis basis) {
-    const std::string hint = "expected discrete:R1:F1,R2:F2,... (e.g. discrete:1:0.7,2:0.3)";
-    std::vector<std::pair<double, double>> rows;
-    for (const std::string& item : split(args, ',')) {
-      const std::vector<std::string> rf = split(item, ':');
-      double r = 0, f = 0;
-      if (rf.size() != 2) refuse(spec, "\"" + excerpt(item) + "\" is not R:F; " + hint);
-      if (!read_number(rf[0], r) || !read_number(rf[1], f))
-        refuse(spec, "\"" + excerpt(item) + "\" is not two numbers R:F; " + hint);
-      if (!std::isfinite(r) || !std::isfinite(f)) refuse(spec, "\"" + excerpt(item) + "\" is not finite; " + hint);
-      if (!(r > 0)) refuse(spec, "radius " + short_number(r) + " is not positive; " + hint);
-      if (f < 0) refuse(spec, "fraction " + short_number(f) + " is negative; " + hint);
-      rows.emplace_back(r, f);
-    }
-    std::sort(rows.begin(), rows.end());
-    for (const auto& [r, f] : rows) {
-      if (!d.radii_.empty() && d.radii_.back() == r) {
-        d.shares_.back() += f;  // a radius given twice: its fractions add up
-      } else if (f > 0) {       // a class of no share is never drawn
-        d.radii_.push_back(r);
-        d.shares_.push_back(f);
-      }
-    }
-    if (d.radii_.empty()) refuse(spec, "every fraction is 0; give at least one class a positive fraction");
-    const double big = d.radii_.back();
-    if (basis == FractionBasis::Volume)
-      for (size_t i = 0; i < d.radii_.size(); ++i) d.shares_[i] /= std::pow(d.radii_[i] / big, 3);
-    double total = 0;
-    for (double s : d.shares_) total += s;
-    for (double& s : d.shares_) s /= total;
-  }
 };
 
 const char* to_string(FractionBasis basis) { return basis == FractionBasis::Volume ? "volume" : "number"; }
@@ -321,16 +196,18 @@ RadiusDistribution RadiusDistribution::parse(const std::string& text, FractionBa
   RadiusDistribution d;
   d.spec_ = text;
   d.basis_ = basis;
-  const std::string spec = trim(text);
+  const std::string spec = trim_spaces(text);
   if (spec.empty()) refuse(text, kForms);
   std::string tail = spec.size() >= 4 ? spec.substr(spec.size() - 4) : "";
   for (char& c : tail) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   const size_t colon = spec.find(':');
-  const std::string name = spec.substr(0, colon), args = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  const std::string args = colon == std::string::npos ? "" : spec.substr(colon + 1);
+  std::string name = trim_spaces(spec.substr(0, colon));
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (tail == ".csv") {
     d.law_ = Law::Sieve;
     d.basis_ = FractionBasis::Volume;
-    Impl::read_sieve(d, text, spec);
+    read_sieve(text, spec, d.radii_, d.shares_);
   } else if (name == "uniform") {
     const auto v = law_numbers(text, args, 2, "uniform:MIN,MAX", "uniform:0.5,1.5");
     if (!(v[0] > 0)) refuse(text, "MIN " + short_number(v[0]) + " is not a positive radius; expected uniform:MIN,MAX "
@@ -353,7 +230,7 @@ RadiusDistribution RadiusDistribution::parse(const std::string& text, FractionBa
     d.a_ = v[0], d.b_ = v[1];
   } else if (name == "discrete") {
     d.law_ = Law::Discrete;
-    Impl::read_discrete(d, text, args, basis);
+    read_discrete(text, args, basis, d.radii_, d.shares_);
   } else {
     refuse(text, "unknown law \"" + excerpt(name) + "\"; " + kForms);
   }
@@ -399,7 +276,7 @@ std::string RadiusDistribution::describe() const {
       return out;
     }
     case Law::Sieve:
-      return "sieve curve " + excerpt(trim(spec_), 60) + ", " + std::to_string(size_classes().size()) +
+      return "sieve curve " + excerpt(trim_spaces(spec_), 60) + ", " + std::to_string(size_classes().size()) +
              " classes by volume" + range;
   }
   return "";
@@ -551,81 +428,5 @@ double RadiusDistribution::draw_in_class(const std::vector<SizeClass>& classes, 
   return std::clamp(quantile(f0 + std::clamp(u, 0.0, 1.0) * (f1 - f0)), c.lo, c.hi);
 }
 
-DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii_in) {
-  using Law = RadiusDistribution::Law;
-  const bool ks = d.law() != Law::Discrete && d.law() != Law::Equal;
-  const std::vector<SizeClass> classes = d.law() == Law::Uniform || d.law() == Law::Lognormal ||
-                                                 d.law() == Law::Normal
-                                             ? d.size_classes(8)
-                                             : d.size_classes();
-  std::vector<double> radii;  // NaN and inf say nothing of sizes
-  for (double r : radii_in)
-    if (std::isfinite(r)) radii.push_back(r);
-  std::sort(radii.begin(), radii.end());
-  DistributionFit fit;
-  fit.class_error = !ks;
-  fit.basis = d.law() == Law::Discrete ? d.basis() : FractionBasis::Number;
-  std::vector<double> count(classes.size(), 0), volume(classes.size(), 0);
-  double total_volume = 0;
-  for (double r : radii) {
-    // The nearest class (distance 0 inside [lo, hi]), the lower on a tie.
-    size_t k = std::upper_bound(classes.begin(), classes.end(), r,
-                                [](double x, const SizeClass& c) { return x < c.lo; }) - classes.begin();
-    size_t best = 0;
-    double best_gap = HUGE_VAL;
-    for (size_t j = k >= 2 ? k - 2 : 0; j <= k && j < classes.size(); ++j) {
-      const double gap = r < classes[j].lo ? classes[j].lo - r : r > classes[j].hi ? r - classes[j].hi : 0;
-      if (gap < best_gap) best_gap = gap, best = j;
-    }
-    count[best] += 1;
-    volume[best] += r * r * r;
-    total_volume += r * r * r;
-  }
-  const double n = static_cast<double>(radii.size());
-  for (size_t j = 0; j < classes.size(); ++j) {
-    DistributionFit::ClassFit c;
-    c.lo = classes[j].lo, c.hi = classes[j].hi;
-    c.requested_number = classes[j].number_share, c.requested_volume = classes[j].volume_share;
-    c.achieved_number = n > 0 ? count[j] / n : 0;
-    c.achieved_volume = total_volume > 0 ? volume[j] / total_volume : 0;
-    fit.classes.push_back(c);
-    const double err = fit.basis == FractionBasis::Volume ? c.achieved_volume - c.requested_volume
-                                                          : c.achieved_number - c.requested_number;
-    if (!ks) fit.distance = std::max(fit.distance, std::abs(err));
-  }
-  if (ks) {
-    fit.distance = radii.empty() ? 1 : 0;
-    const double lowest = d.min_radius();
-    for (size_t i = 0; i < radii.size(); ++i) {
-      const double f = d.cdf(radii[i]), f_left = radii[i] <= lowest ? 0 : f;  // a sieve's share at its smallest radius
-      fit.distance = std::max({fit.distance, (i + 1) / n - f, f_left - i / n});
-    }
-  }
-  if (n > 0) {
-    double sum = 0;
-    for (double r : radii) sum += r;
-    fit.mean = sum / n;
-    double m2 = 0, m3 = 0;
-    for (double r : radii) m2 += (r - fit.mean) * (r - fit.mean), m3 += std::pow(r - fit.mean, 3);
-    fit.stddev = std::sqrt(m2 / n);
-    fit.skewness = fit.stddev > 1e-12 * fit.mean ? m3 / n / std::pow(fit.stddev, 3) : 0;
-  }
-  return fit;
-}
-
-std::string DistributionFit::describe() const {
-  std::string out;
-  char line[160];
-  for (const ClassFit& c : classes) {
-    const std::string range = c.lo == c.hi ? "r " + g3(c.lo) : g3(c.lo) + ".." + g3(c.hi);
-    std::snprintf(line, sizeof line, "%-18s number %5.1f%% -> %5.1f%%, volume %5.1f%% -> %5.1f%%\n", range.c_str(),
-                  100 * c.requested_number, 100 * c.achieved_number, 100 * c.requested_volume,
-                  100 * c.achieved_volume);
-    out += line;
-  }
-  out += class_error ? "largest class error " + g3(100 * distance) + " percentage points by " + to_string(basis)
-                     : "KS distance " + g3(distance);
-  return out + "; radii mean " + g3(mean) + ", std " + g3(stddev) + ", skewness " + g3(skewness);
-}
 
 }  // namespace pfill
