@@ -143,11 +143,12 @@ struct RadiusDistribution::Impl {
   static double within_inverse(double lo, double hi, double w) {
     return std::clamp(lo / std::sqrt(1 - w * (1 - (lo / hi) * (lo / hi))), lo, hi);
   }
-  // E[f(r)] by number within a sieve interval: r = lo (hi/lo)^t, dr = r L dt.
+  // E[f(r)] by number within a sieve interval: r = lo (hi/lo)^t, dr = r L dt,
+  // so the weight r^-3 dr is ~ (r/lo)^-2 dt.
   template <class F>
   static double sieve_mean(double lo, double hi, F f) {
     const double L = std::log(hi / lo);
-    auto weight = [&](double t) { return 1 / (lo * std::exp(t * L) * lo * std::exp(t * L)); };
+    auto weight = [L](double t) { return std::exp(-2 * t * L); };
     return gauss(0, 1, 8, [&](double t) { return f(lo * std::exp(t * L)) * weight(t); }) / gauss(0, 1, 8, weight);
   }
 
@@ -172,7 +173,6 @@ struct RadiusDistribution::Impl {
         return integrate(d, t_lo(d), t_hi(d), f) / integrate(d, t_lo(d), t_hi(d), [](double) { return 1.0; });
     }
   }
-
 };
 
 const char* to_string(FractionBasis basis) { return basis == FractionBasis::Volume ? "volume" : "number"; }
