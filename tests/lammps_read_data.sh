@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # A real client: LAMMPS (Debian's `lmp`) reads a fill written as a LAMMPS
 # data file (-o fill.data, atom_style sphere) with read_data, and every
-# particle arrives with its id, diameter, position and velocity. Registered
+# particle arrives with its id, diameter, position and velocity; the fill
+# is of unequal spheres (--radii, issue 29), so every diameter is its own. Registered
 # with ctest only where lmp is installed. Usage: lammps_read_data.sh PFILL LMP
 set -euo pipefail
 pfill="$1"
@@ -9,7 +10,7 @@ lmp="$2"
 work="$(mktemp -d)"
 trap 'rm -rf "$work"' EXIT
 cd "$work"
-"$pfill" fill cube -n 150 -q --velocities --density 2.5 -o fill.data --report report.json >/dev/null
+"$pfill" fill cube -n 150 --radii discrete:1:0.5,2:0.5 -q --velocities --density 2.5 -o fill.data --report report.json >/dev/null
 cat > in.check <<'LAMMPS'
 units lj
 atom_style sphere
@@ -42,5 +43,7 @@ for r in rows:
     assert math.isclose(m, rho * math.pi / 6 * d ** 3, rel_tol=1e-12), f"atom {id_}: mass {m}"
     assert (x, y, z) == (wx, wy, wz), f"atom {id_}: position {(x, y, z)}, written {(wx, wy, wz)}"
     assert (vx, vy, vz) == velocity[id_], f"atom {id_}: velocity"
-print(f"lammps read_data: all {count} atoms read with their diameters, positions and velocities")
+sizes = sorted({float(r[1]) for r in rows})
+assert len(sizes) == 2 and math.isclose(sizes[1], 2 * sizes[0], rel_tol=1e-6), f"diameters {sizes[:5]}: expected two, 1:2"
+print(f"lammps read_data: all {count} atoms read with their diameters ({sizes[0]:.4g} and {sizes[1]:.4g}), positions and velocities")
 PY

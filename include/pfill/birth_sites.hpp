@@ -45,6 +45,11 @@ std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, doub
 /// True when no centre in `centres` lies closer than `clearance` to `site`.
 bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double clearance);
 
+/// Unequal spheres: true when no sphere (centres, radii) lies closer to
+/// `site` than `share` (radius + its radius), `radius` the newborn's.
+bool site_has_room(const std::vector<Vec3>& centres, const std::vector<double>& radii, const Vec3& site,
+                   double radius, double share);
+
 /// Sites spread over the whole interior, for births in waves: among field
 /// points at least `min_depth` deep (taken on a sub-lattice of the field,
 /// about `spacing` / 3 apart), the deepest, then again and again the
@@ -63,8 +68,13 @@ class RoomGrid {
  public:
   RoomGrid() = default;
   RoomGrid(const std::vector<Vec3>& centres, double clearance);
+  /// Unequal spheres: room for a newborn of radius r where no sphere j lies
+  /// closer than `share` (r + r_j); cells for newborns up to `largest`.
+  RoomGrid(const std::vector<Vec3>& centres, const std::vector<double>& radii, double share, double largest);
   /// True when no centre lies closer than the clearance to `site`.
   bool has_room(const Vec3& site) const;
+  /// Unequal spheres (the second constructor): room for a newborn of `radius`.
+  bool has_room(const Vec3& site, double radius) const;
 
  private:
   bool cell_of(const Vec3& p, std::array<int, 3>& c) const;
@@ -78,6 +88,8 @@ class RoomGrid {
   std::array<int, 3> dims_{0, 0, 0};
   std::vector<uint32_t> start_;  ///< cell c's centres: sorted_[start_[c] .. start_[c + 1])
   std::vector<Vec3> sorted_;     ///< the centres in cell order
+  std::vector<double> radii_;    ///< unequal spheres: their radii in the same order
+  double share_ = 0;
 };
 
 }  // namespace pfill

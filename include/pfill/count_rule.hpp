@@ -5,6 +5,8 @@
 #pragma once
 #include <cstddef>
 
+#include "pfill/radius_distribution.hpp"
+
 namespace pfill {
 
 /// The packing fraction a fill reaches at a bound on the overlaps
@@ -26,5 +28,16 @@ double expected_fill_count(double volume, double area, double half_rest, double 
 /// `rest_distance` (contact distances). 0 for no volume or no count.
 double fill_radius_for_count(double volume, double area, size_t count, double max_overlap = 0.001,
                              double rest_distance = 1);
+
+/// Unequal spheres: about how many spheres of `sizes` (mesh units) fill
+/// `volume` (enclosed by `area`): the equal spheres' packing at the mean
+/// radius, plus the distribution's random-close-packing gain
+/// (RadiusDistribution::rcp_gain), over the mean sphere volume.
+double expected_fill_count(double volume, double area, const RadiusDistribution& sizes, double max_overlap);
+
+/// The factor that scales `sizes` (relative radii) so that about `count`
+/// spheres fill `volume`; 0 for no volume or no count.
+double fill_scale_for_count(double volume, double area, size_t count, const RadiusDistribution& sizes,
+                            double max_overlap = 0.001);
 
 }  // namespace pfill

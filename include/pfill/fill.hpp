@@ -18,6 +18,7 @@
 #include "pfill/mesh.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/particles.hpp"
+#include "pfill/radius_distribution.hpp"
 #include "pfill/stop_tests.hpp"
 
 namespace pfill {
@@ -54,6 +55,14 @@ struct FillOptions {
   // ---- the user's: density, physics of the report, seed, device ----
   double radius = 0;            ///< particle radius in mesh units; 0: from `count`
   size_t count = 0;             ///< about this many particles (when radius is 0)
+  /// Unequal spheres: the radii's distribution (`--radii SPEC`,
+  /// radius_distribution.hpp). With `count` its radii are relative, scaled so
+  /// that about `count` spheres fill the mesh; without, in mesh units. Every
+  /// overlap bound is then a fraction of the pair's smaller radius. Empty:
+  /// equal spheres of `radius`.
+  std::optional<RadiusDistribution> radii;
+  /// What a discrete SPEC's fractions are: by number (default) or by volume.
+  FractionBasis radii_by = FractionBasis::Number;
   double max_overlap = 0.001;   ///< bound on every pair's overlap after the finish, fraction of r (0: none, below 1e-4 r)
   double rest_distance = 1.0;   ///< potential minimum, in contact distances 2r (>= 1; larger: sparser)
   double epsilon = 1.0;         ///< depth of the potential well
@@ -152,7 +161,11 @@ struct PassStats {
 struct FillResult {
   ParticleSet particles;
   PackingMetrics metrics;
-  double radius = 0;
+  double radius = 0;            ///< equal spheres: their radius; unequal: the smallest the distribution draws
+  /// Unequal spheres: the distribution in mesh units (scaled to the count),
+  /// and how the spheres of the result follow it.
+  std::optional<RadiusDistribution> radii;
+  std::optional<DistributionFit> radii_fit;
   size_t expected = 0;          ///< count estimated from the volume before the fill
   size_t max_parts = 0;         ///< MaxParts: the count at overfull, less one
   std::string stop_signal;      ///< which test ended pass 1: blocked, ke, collisions, budget

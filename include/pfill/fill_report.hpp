@@ -18,6 +18,11 @@ namespace pfill {
 /// overlapping_pairs, mean_overlap, max_overlap, mean_coordination.
 nlohmann::ordered_json metrics_json(const PackingMetrics& metrics);
 
+/// Unequal spheres: the distribution asked for (spec, basis, moments, the
+/// Desmond-Weeks gain) and achieved (moments, per-class shares, the KS or
+/// largest class distance); null for equal spheres.
+nlohmann::ordered_json radii_json(const FillResult& result);
+
 /// The whole report of a fill: the mesh's name, the output file (may be
 /// empty), the radius, the seed, the device, `metrics` (metrics_json), why
 /// pass 1 stopped, the removals, the passes' steps and seconds, the

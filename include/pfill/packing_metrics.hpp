@@ -21,9 +21,9 @@ struct PackingMetrics {
   size_t centres_outside = 0;      ///< spheres whose centre is outside the mesh
   double max_penetration = 0;      ///< largest (r - depth of centre) / r, 0 when all inside
   size_t overlapping_pairs = 0;    ///< pairs closer than r_i + r_j
-  double mean_overlap = 0;         ///< mean (r_i + r_j - d) / r over overlapping pairs
-  double max_overlap = 0;          ///< largest (r_i + r_j - d) / r
-  double mean_coordination = 0;    ///< contacts per sphere (gap below contact_gap r)
+  double mean_overlap = 0;         ///< mean (r_i + r_j - d) / min(r_i, r_j) over overlapping pairs
+  double max_overlap = 0;          ///< largest (r_i + r_j - d) / min(r_i, r_j): of the smaller radius
+  double mean_coordination = 0;    ///< contacts per sphere (gap below contact_gap min(r_i, r_j))
   double containment_tolerance = 0;
   double min_distance = 0;         ///< smallest centre distance over r_i + r_j (1: touching; < 1: overlapping)
   /// Largest empty hole: the largest distance from a point at least r
@@ -59,7 +59,7 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
                                const MetricsOptions& options = {});
 
 /// The pairs (i < j) whose spheres overlap, with overlap (r_i + r_j - d) as a
-/// fraction of their mean radius. Host hash grid, O(n).
+/// fraction of the smaller radius. Host hash grid, O(n).
 struct Overlap {
   uint32_t i = 0, j = 0;
   double fraction = 0;

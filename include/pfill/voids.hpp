@@ -15,7 +15,11 @@ namespace pfill {
 /// nearest centre is farthest, so that holes between grid points are found
 /// too; largest first, the chosen points `clearance` apart. At most `limit`.
 /// With clearance 2 r, a sphere fits at each without overlap.
+/// Unequal spheres: with `reference_radius` > 0, "centre" distances are
+/// to each sphere's surface plus the reference radius (the same for
+/// spheres of that radius), and a hole taken counts as a sphere of it.
+/// `distances`, when given, gets each hole's nearest distance so measured.
 std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit);
+                             size_t limit, double reference_radius = 0, std::vector<double>* distances = nullptr);
 
 }  // namespace pfill

@@ -265,7 +265,7 @@ def test_one_name_per_setting_in_the_cli_python_and_the_docs():
 def test_the_short_help_lists_the_users_options_only():
     out = subprocess.run([CLI, "fill", "--help"], capture_output=True, text=True, check=True).stdout
     options = [line for line in out.splitlines() if line.lstrip().startswith("-")]
-    assert len(options) <= 25
+    assert len(options) <= 27  # 25, and the two of unequal spheres (--radii, --radii-by)
     assert "--max-overlap" in out and "--patience" not in out
 
 
@@ -279,3 +279,19 @@ def test_the_short_help_lists_the_users_options_only():
 def test_bad_settings_are_refused_before_the_fill(settings, words):
     with pytest.raises(pfill.Error, match=words):
         pfill.fill("sphere", **settings)
+
+
+def test_unequal_spheres_follow_the_distribution_asked_for():
+    """radii= takes the command line's SPEC: two sizes 1:2, half the number each."""
+    r = pfill.fill("sphere", count=300, radii="discrete:1:0.5,2:0.5", seed=2)
+    sizes = np.unique(np.round(r.radii, 9))
+    assert len(sizes) == 2 and sizes[1] == pytest.approx(2 * sizes[0])
+    report = r.report["radii"]
+    assert report["spec"] == "discrete:1:0.5,2:0.5"
+    small_share = float(np.mean(np.isclose(r.radii, sizes[0])))
+    assert report["classes"][0]["number_share"] == pytest.approx(small_share)
+    assert abs(small_share - 0.5) <= 0.03
+    # overlaps are of the smaller radius, the same by pfill.check
+    m = pfill.check(r.positions, r.radii, "sphere")
+    assert m["max_overlap"] <= 0.001 + 1e-9
+    assert m["max_overlap"] == pytest.approx(r.metrics["max_overlap"], abs=1e-9)

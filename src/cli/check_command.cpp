@@ -10,9 +10,12 @@
 #include "cli/number_checks.hpp"
 #include "cli/shell_report.hpp"
 #include "pfill/boundary.hpp"
+#include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
+#include "pfill/fill_settings.hpp"
 #include "pfill/particle_io.hpp"
+#include "pfill/radius_distribution.hpp"
 #include "pfill/shapes.hpp"
 
 namespace pfill::cli {
@@ -28,6 +31,7 @@ void add_check_command(CLI::App& app) {
     double gap = kDefaultContactGap;
     // Thresholds (negative: not checked); a miss exits with kExitThresholdMissed.
     double min_inside = -1, max_overlap = -1, min_packing = -1;
+    std::string radii, radii_by = "number";  // a size distribution to compare the radii with
   };
   auto a = std::make_shared<Args>();
   CLI::App* cmd = app.add_subcommand("check", "Measure a particle file against a mesh: packing, containment, overlaps");
@@ -46,11 +50,15 @@ void add_check_command(CLI::App& app) {
   cmd->add_flag("--shell", a->shell,
                 "Also the figures of the boundary particles (`pfill surface`, `fill --shell`: those whose centre "
                 "lies within half their radius of the surface): nearest-neighbour spacing and coverage");
+  cmd->add_option("--radii", a->radii,
+                  "A size distribution (as `fill --radii`) to compare the file's radii with, scaled to their mean "
+                  "(so a SPEC of relative radii compares too): shares per class, KS distance");
+  cmd->add_option("--radii-by", a->radii_by, "What discrete:... fractions are: number (default) or volume");
   cmd->add_option("--min-inside", a->min_inside,
                   "Exit with status 3 unless at least this share of the spheres (0..1) lies inside")
       ->check(number_in(0, 1));
   cmd->add_option("--max-overlap", a->max_overlap,
-                  "Exit with status 3 if any pair overlaps by more than this fraction of r")
+                  "Exit with status 3 if any pair overlaps by more than this fraction of r (of the smaller radius)")
       ->check(number_in(0, 2));
   cmd->add_option("--min-packing", a->min_packing,
                   "Exit with status 3 unless the packing fraction is at least this")
@@ -71,6 +79,19 @@ void add_check_command(CLI::App& app) {
     const PackingMetrics m = measure_packing(boundary, diagnose(mesh).volume(), particles, mo);
     std::optional<ShellStats> shell;
     if (a->shell) shell = measure_shell_of(boundary, particles);
+    std::optional<RadiusDistribution> sizes;
+    std::optional<DistributionFit> fit;
+    if (!a->radii.empty()) {
+      try {
+        sizes = RadiusDistribution::parse(a->radii, parse_fraction_basis(a->radii_by));
+      } catch (const Error& e) {
+        throw CLI::ValidationError("check", with_flags(e.what()));
+      }
+      double mean = 0;
+      for (double r : particles.radii) mean += r;
+      if (!particles.radii.empty()) sizes = sizes->scaled(mean / static_cast<double>(particles.radii.size()) / sizes->mean());
+      fit = compare_distribution(*sizes, particles.radii);
+    }
     std::vector<std::string> misses;
     nlohmann::ordered_json pairs;
     if (!a->pairs.empty()) pairs = verify_pairs(particles, a->pairs, a->gap, misses);
@@ -87,6 +108,12 @@ void add_check_command(CLI::App& app) {
       nlohmann::ordered_json j{{"particles_file", a->particles}, {"mesh", mesh.source}};
       j["metrics"] = metrics_json(m);
       if (shell) j["shell"] = shell_json(*shell);
+      if (fit) {
+        FillResult as_fill;  // radii_json reads them from a fill's result
+        as_fill.radii = sizes;
+        as_fill.radii_fit = fit;
+        j["radii"] = radii_json(as_fill);
+      }
       if (!pairs.is_null()) j["contacts"] = pairs;
       j["passed"] = misses.empty();
       j["failures"] = misses;
@@ -94,6 +121,7 @@ void add_check_command(CLI::App& app) {
     } else {
       std::printf("%s in %s\n", a->particles.c_str(), mesh.source.c_str());
       print_metrics(stdout, m);
+      if (fit) print_radii_fit(stdout, *sizes, *fit);
       if (shell) print_shell(stdout, *shell);
       if (!pairs.is_null())
         std::printf("  contacts        %s listed pairs, %s beyond the gap (largest gap %.4f of the smaller radius); %s found here\n",

@@ -155,7 +155,8 @@ void parse_settings(FillArgs& a, const CLI::App& cmd) {
   try {
     for (const FillSetting& setting : fill_settings())
       if (cmd.count(setting.flag()) > 0) setting.set(a.options, a.settings[setting.name]);
-    if (a.options.radius <= 0 && a.options.count == 0) a.options.count = 4000;
+    // (--radii alone: its radii are in mesh units, no count to scale them to)
+    if (a.options.radius <= 0 && a.options.count == 0 && !a.options.radii) a.options.count = 4000;
     check_fill_options(a.options);
   } catch (const Error& e) {
     usage_error(with_flags(e.what()));
@@ -196,6 +197,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   // --engine lammps: every MPI rank runs the fill (SPMD); rank 0 alone prints and writes.
   bool writer = true;
   if (a.engine == "lammps") {
+    // (the LAMMPS engine runs every pair at one scale: equal spheres only, for now)
+    if (a.options.radii) usage_error("--engine lammps takes equal spheres only: leave out --radii");
     a.options.engine = lammps_engine_factory();  // one line when this pfill has no LAMMPS
     a.options.finish_on_engine = true;
     writer = lammps_mpi_start().rank == 0;
@@ -267,9 +270,11 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
     return;
   }
 
-  std::printf("%s -> %s  (radius %s, %s)\n", mesh.source.c_str(), a.output.c_str(), num(r.radius).c_str(),
-              r.device.c_str());
+  const std::string sizes = r.radii ? "radii " + num(r.radii->min_radius()) + ".." + num(r.radii->max_radius())
+                                    : "radius " + num(r.radius);
+  std::printf("%s -> %s  (%s, %s)\n", mesh.source.c_str(), a.output.c_str(), sizes.c_str(), r.device.c_str());
   print_metrics(stdout, r.metrics);
+  if (r.radii_fit) print_radii_fit(stdout, *r.radii, *r.radii_fit);
   if (contacts.network) print_contacts_line(stdout, *contacts.network, true);
   if (shell) shell->print(stdout);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());

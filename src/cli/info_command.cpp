@@ -1,6 +1,7 @@
 // `pfill info MESH`: what a mesh is made of and whether it can be filled.
 #include <cmath>
 #include <iostream>
+#include <optional>
 
 #include <nlohmann/json.hpp>
 
@@ -8,7 +9,9 @@
 #include "cli/format.hpp"
 #include "cli/mesh_argument.hpp"
 #include "pfill/count_rule.hpp"
+#include "pfill/error.hpp"
 #include "pfill/fill.hpp"
+#include "pfill/fill_settings.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/shapes.hpp"
@@ -20,14 +23,24 @@ struct InfoOptions {
   std::string mesh_path;
   std::string builtin;
   bool json = false;
+  std::string radii, radii_by = "number";
+  std::optional<RadiusDistribution> sizes;  ///< --radii, parsed
 };
 
 const size_t kCounts[] = {1000, 10000, 100000, 1000000};
 
-/// The radius `pfill fill -n count` chooses at its defaults (the count rule).
-double radius_for(const MeshDiagnostics& d, size_t count) {
+/// The radius `pfill fill -n count` chooses at its defaults (the count
+/// rule); with --radii, the mean radius of the distribution so scaled.
+double radius_for(const MeshDiagnostics& d, size_t count, const std::optional<RadiusDistribution>& sizes) {
   const FillOptions defaults;
+  if (sizes) return sizes->scaled(fill_scale_for_count(d.volume(), d.surface_area, count, *sizes, defaults.max_overlap)).mean();
   return fill_radius_for_count(d.volume(), d.surface_area, count, defaults.max_overlap) / defaults.rest_distance;
+}
+
+/// The radii of the scaled distribution, "0.01..0.02 (mean 0.015)".
+std::string radii_for(const MeshDiagnostics& d, size_t count, const RadiusDistribution& sizes) {
+  const RadiusDistribution s = sizes.scaled(fill_scale_for_count(d.volume(), d.surface_area, count, sizes, FillOptions{}.max_overlap));
+  return num(s.min_radius()) + ".." + num(s.max_radius()) + " (mean " + num(s.mean()) + ")";
 }
 
 // What a fill will do with a mesh that is not a clean closed surface.
@@ -58,13 +71,20 @@ std::vector<std::string> warnings(const MeshDiagnostics& d) {
   return w;
 }
 
-nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d) {
+nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d,
+                               const std::optional<RadiusDistribution>& sizes) {
   nlohmann::ordered_json radii = nlohmann::ordered_json::array();
   for (size_t n : kCounts) {
-    const double r = radius_for(d, n);
+    const double r = radius_for(d, n, sizes);
+    const double gain = sizes ? sizes->rcp_gain() : 0;
     radii.push_back({{"count", n},
                      {"radius", r},
-                     {"packing_fraction", r > 0 ? expected_packing(FillOptions{}.max_overlap, d.surface_area * r / d.volume()) : 0.0}});
+                     {"packing_fraction", r > 0 ? expected_packing(FillOptions{}.max_overlap, d.surface_area * r / d.volume()) + gain : 0.0}});
+    if (sizes) {
+      const RadiusDistribution s = sizes->scaled(r / sizes->mean());
+      radii.back()["min_radius"] = s.min_radius();
+      radii.back()["max_radius"] = s.max_radius();
+    }
   }
   return {
       {"mesh", name},
@@ -92,7 +112,7 @@ nlohmann::ordered_json to_json(const std::string& name, const MeshDiagnostics& d
   };
 }
 
-void print_text(const std::string& name, const MeshDiagnostics& d) {
+void print_text(const std::string& name, const MeshDiagnostics& d, const std::optional<RadiusDistribution>& sizes) {
   auto row = [](const char* key, const std::string& value) {
     std::printf("  %-13s %s\n", key, value.c_str());
   };
@@ -115,9 +135,16 @@ void print_text(const std::string& name, const MeshDiagnostics& d) {
                     (d.boundary_loops ? "  estimated with the holes capped" : ""));
   row("area", num(d.surface_area));
   row("genus", d.genus ? std::to_string(*d.genus) : "- (not closed)");
+  if (sizes) {
+    std::printf("  radii for about N particles of %s (as `pfill fill -n N --radii` scales them):\n",
+                sizes->describe().c_str());
+    for (size_t n : kCounts)
+      std::printf("  %13s %s\n", thousands(static_cast<unsigned long long>(n)).c_str(), radii_for(d, n, *sizes).c_str());
+    return;
+  }
   std::printf("  radius for about N particles (as `pfill fill -n N` chooses it):\n");
   for (size_t n : kCounts)
-    std::printf("  %13s %s\n", thousands(static_cast<unsigned long long>(n)).c_str(), num(radius_for(d, n)).c_str());
+    std::printf("  %13s %s\n", thousands(static_cast<unsigned long long>(n)).c_str(), num(radius_for(d, n, sizes)).c_str());
 }
 
 }  // namespace
@@ -129,15 +156,24 @@ void add_info_command(CLI::App& app) {
                   "Mesh file (glTF/GLB, OBJ, STL, PLY, OFF, SMF, ...) or a built-in shape name (torus, sphere, cube)");
   cmd->add_option("--builtin", opts->builtin, "Use a built-in shape instead of a file (torus, sphere, cube)");
   cmd->add_flag("--json", opts->json, "Write the report as JSON on standard output");
+  cmd->add_option("--radii", opts->radii, "A size distribution (as `pfill fill --radii`): the radii for each count");
+  cmd->add_option("--radii-by", opts->radii_by, "What discrete:... fractions are: number (default) or volume");
   cmd->callback([opts]() {
     if (opts->mesh_path.empty() == opts->builtin.empty())
       throw CLI::ValidationError("info", "give either a mesh file or --builtin NAME");
     const Mesh mesh = opts->builtin.empty() ? load_mesh_argument(opts->mesh_path) : make_builtin(opts->builtin);
+    if (!opts->radii.empty()) {
+      try {
+        opts->sizes = RadiusDistribution::parse(opts->radii, parse_fraction_basis(opts->radii_by));
+      } catch (const Error& e) {
+        throw CLI::ValidationError("info", with_flags(e.what()));
+      }
+    }
     const MeshDiagnostics d = diagnose(mesh);
     if (opts->json) {
-      std::cout << to_json(mesh.source, d).dump(2) << "\n";
+      std::cout << to_json(mesh.source, d, opts->sizes).dump(2) << "\n";
     } else {
-      print_text(mesh.source, d);
+      print_text(mesh.source, d, opts->sizes);
     }
     if (mesh.turned_faces > 0)
       std::cerr << "pfill: warning: the winding was inconsistent: " << thousands(mesh.turned_faces)

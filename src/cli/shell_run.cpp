@@ -24,6 +24,8 @@ void add_shell_options(CLI::App* cmd, ShellArgs& a, const std::string& details_g
 }
 
 ShellRun::ShellRun(const ShellArgs& a, const Mesh& mesh, FillOptions& o) : boundary_(mesh) {
+  if (o.radii)  // the shell's spacing and the inset wall are one radius's
+    throw Error("--shell takes equal spheres only: leave out --radii (or fill without --shell)");
   if (o.radius <= 0) {
     const MeshDiagnostics d = diagnose(mesh);
     o.radius = fill_radius_for_count(d.volume(), d.surface_area, o.count, o.max_overlap, o.rest_distance);

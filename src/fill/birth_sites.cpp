@@ -51,6 +51,16 @@ std::vector<BirthSite> choose_birth_sites(const ScalarGrid& sdf, int count, doub
   return sites;
 }
 
+bool site_has_room(const std::vector<Vec3>& centres, const std::vector<double>& radii, const Vec3& site,
+                   double radius, double share) {
+  for (size_t i = 0; i < centres.size(); ++i) {
+    const Vec3 d = centres[i] - site;
+    const double t = share * (radius + radii[i]);
+    if (dot(d, d) < t * t) return false;
+  }
+  return true;
+}
+
 bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double clearance) {
   const double c2 = clearance * clearance;
   for (const Vec3& p : centres) {
@@ -139,9 +149,29 @@ bool RoomGrid::cell_of(const Vec3& p, std::array<int, 3>& c) const {
   return true;
 }
 
-bool RoomGrid::has_room(const Vec3& site) const {
+RoomGrid::RoomGrid(const std::vector<Vec3>& centres, const std::vector<double>& radii, double share, double largest)
+    : share_(share) {
+  double widest = 0;
+  for (double r : radii) widest = std::max(widest, r);
+  *this = RoomGrid(centres, share * (largest + widest));
+  share_ = share;
+  if (centres.empty()) return;
+  // The radii in the cell order of sorted_ (the build's order, again).
+  radii_.resize(centres.size());
+  std::vector<uint32_t> fill(start_.begin(), start_.end() - 1);
+  for (size_t i = 0; i < centres.size(); ++i) {
+    std::array<int, 3> c{};
+    cell_of(centres[i], c);
+    radii_[fill[cell_index(c)]++] = radii[i];
+  }
+}
+
+bool RoomGrid::has_room(const Vec3& site) const { return has_room(site, -1); }
+
+bool RoomGrid::has_room(const Vec3& site, double radius) const {
   const double c2 = clearance_ * clearance_;
   if (start_.empty()) return true;
+  const bool unequal = !radii_.empty() && radius >= 0;
   const Vec3 q = (site - origin_) / cell_;
   const int reach = static_cast<int>(std::ceil(clearance_ / cell_));
   const int ci = static_cast<int>(std::floor(q.x)), cj = static_cast<int>(std::floor(q.y)),
@@ -152,7 +182,8 @@ bool RoomGrid::has_room(const Vec3& site) const {
         const size_t c = cell_index({i, j, k});
         for (uint32_t m = start_[c]; m < start_[c + 1]; ++m) {
           const Vec3 d = sorted_[m] - site;
-          if (dot(d, d) < c2) return false;
+          const double t = unequal ? share_ * (radius + radii_[m]) : 0;
+          if (dot(d, d) < (unequal ? t * t : c2)) return false;
         }
       }
   return true;

@@ -44,4 +44,21 @@ double fill_radius_for_count(double volume, double area, size_t count, double ma
   return half_rest / rest_distance;
 }
 
+double expected_fill_count(double volume, double area, const RadiusDistribution& sizes, double max_overlap) {
+  if (!(volume > 0)) return 0;
+  const double r = sizes.mean();
+  const double packing = expected_packing(max_overlap, std::max(area, 0.0) * r / volume) + sizes.rcp_gain();
+  return packing * volume / (4.0 / 3.0 * kPi * sizes.mean_cube());
+}
+
+double fill_scale_for_count(double volume, double area, size_t count, const RadiusDistribution& sizes,
+                            double max_overlap) {
+  if (!(volume > 0) || count == 0) return 0;
+  // The count goes as the scale^-3, but for the wall's share: a few rounds settle it.
+  double s = 1;
+  for (int k = 0; k < 8; ++k)
+    s *= std::cbrt(expected_fill_count(volume, area, sizes.scaled(s), max_overlap) / static_cast<double>(count));
+  return s;
+}
+
 }  // namespace pfill

@@ -144,6 +144,7 @@ class FillRun {
   FinishSettings finish_settings() const {
     FinishSettings s;
     s.radius = plan_.radius;
+    s.sizes = plan_.sizes;
     s.max_overlap = o_.max_overlap;
     s.hole_rounds = o_.hole_rounds;
     s.hole_clearance = o_.hole_clearance * 2 * o_.rest_distance;
@@ -163,7 +164,8 @@ class FillRun {
   void verify() {
     reporter_.enter(FillPhase::Verify);
     reporter_.report(particles_.size(), 0, 0, fill_steps_ + relax_steps_, relax_steps_);
-    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, o_, std::move(particles_), next_id_, result_);
+    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, o_, std::move(particles_), next_id_,
+                result_);
     result_.seconds = reporter_.elapsed();
     result_.steps = fill_steps_ + relax_steps_;
     result_.peak_memory = peak_resident_bytes();

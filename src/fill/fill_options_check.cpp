@@ -20,7 +20,10 @@ void check_fill_options(const FillOptions& o) {
   auto in = [](double v, double lo, double hi) { return v >= lo && v <= hi; };
   need(o.radius >= 0 && std::isfinite(o.radius), "radius must be a positive number");
   need(!(o.radius > 0 && o.count > 0), "give a count or a radius, not both (a count picks the radius)");
-  need(o.radius > 0 || o.count > 0, "give a count or a particle radius");
+  need(o.radius > 0 || o.count > 0 || o.radii, "give a count or a particle radius");
+  need(!(o.radii && o.radius > 0),
+       "radii with radius: give radii with a count (its radii then relative) or alone (radii in mesh units)");
+  need(!o.radii || o.rest_distance == 1, "radii need rest_distance 1 (unequal spheres rest touching)");
   need(o.count <= kMaxParticles, "a count of " + std::to_string(o.count) + " is more than pfill handles (" +
                                       short_number(kMaxParticles) + "); ask for fewer particles");
   need(in(o.max_overlap, 0, 0.999999), "max_overlap must be in [0, 1) (a fraction of r)");

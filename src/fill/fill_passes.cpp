@@ -32,7 +32,9 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       result_(result),
       rng_(o.seed),
       top_speed_(engine.constants().max_speed),
-      newest_(Engine::kGone) {}
+      newest_(Engine::kGone) {
+  if (plan.sizes) sizes_.emplace(*plan.sizes);
+}
 
 // ---- pass 1: births until the object is overfull ----
 void FillPasses::pass1() {
@@ -166,7 +168,12 @@ std::vector<int> FillPasses::run_batch(bool births) {
   if (births_ahead || frame_due) {  // (a hold on births may end next batch)
     const std::vector<Particle> ps = engine_.read_particles();
     snapshot_.clear();
+    snapshot_radii_.clear();
     for (const Particle& p : ps) snapshot_.push_back(p.position);
+    if (sizes_) {
+      for (const Particle& p : ps) snapshot_radii_.push_back(p.radius);
+      sizes_->recount(snapshot_radii_);
+    }
     newborns_.clear();
     if (frame_due) {
       last_frame_ = engine_.steps_done() / o_.frame_every;
@@ -190,10 +197,19 @@ int FillPasses::birth_at_sites() {
   const double clearance = plan_.birth_clearance * plan_.rest_distance(o_);
   for (const BirthSite& site : sites_) {
     if (!may_birth()) break;
-    if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, clearance)) continue;
-    const Particle p = newborn_at(site.position);
+    double radius = plan_.radius;
+    if (sizes_) {
+      radius = newborn_radius([&](double r) {
+        return site_has_room(snapshot_, snapshot_radii_, site.position, r, plan_.birth_clearance) &&
+               newborns_clear(site.position, r, clearance);
+      });
+      if (radius <= 0) continue;
+    } else if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, radius, clearance)) {
+      continue;
+    }
+    const Particle p = newborn_at(site.position, radius);
     newest_ = engine_.add_particle(p);
-    newborns_.push_back({p.position, p.velocity, engine_.steps_done()});
+    newborns_.push_back({p.position, p.velocity, engine_.steps_done(), radius});
     ++born;
   }
   return born;
@@ -204,21 +220,52 @@ int FillPasses::birth_at_sites() {
 /// several rest distances apart, so newborns of one wave never crowd each
 /// other. Returns how many were born.
 int FillPasses::birth_wave() {
-  const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
   const bool capped = reporter_.phase() == FillPhase::Pass2;
   std::vector<Particle> newborns;
-  for (const BirthSite& site : sites_) {
-    if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
-    if (room.has_room(site.position)) newborns.push_back(newborn_at(site.position));
+  if (sizes_) {
+    // Unequal spheres: room for each newborn's own radius, and the wave's
+    // large newborns may reach each other across the sites' spacing.
+    const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
+    for (const BirthSite& site : sites_) {
+      if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
+      const double radius = newborn_radius([&](double r) {
+        if (!room.has_room(site.position, r)) return false;
+        for (const Particle& b : newborns)
+          if (length(b.position - site.position) < plan_.birth_clearance * (r + b.radius)) return false;
+        return true;
+      });
+      if (radius > 0) newborns.push_back(newborn_at(site.position, radius));
+    }
+  } else {
+    const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
+    for (const BirthSite& site : sites_) {
+      if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
+      if (room.has_room(site.position)) newborns.push_back(newborn_at(site.position, plan_.radius));
+    }
   }
   if (!newborns.empty()) newest_ = engine_.add_particles(newborns) + newborns.size() - 1;
   return static_cast<int>(newborns.size());
 }
 
-Particle FillPasses::newborn_at(const Vec3& position) {
+/// Unequal spheres: the radius of a newborn where `has_room(r)` says
+/// whether one of radius r fits: the size classes furthest below their
+/// shares first (SizeDeficit); 0 when none fits.
+template <class HasRoom>
+double FillPasses::newborn_radius(const HasRoom& has_room) {
+  for (size_t k : sizes_->candidates()) {
+    const double r = sizes_->draw(k, rng_);
+    if (has_room(r)) {
+      sizes_->add(r);
+      return r;
+    }
+  }
+  return 0;
+}
+
+Particle FillPasses::newborn_at(const Vec3& position, double radius) {
   Particle p;
   p.position = position;
-  p.radius = plan_.radius;
+  p.radius = radius;
   p.id = next_id_++;
   p.velocity = random_direction() *
                (top_speed_ * (o_.birth_speed[0] + (o_.birth_speed[1] - o_.birth_speed[0]) * speed_(rng_)));
@@ -227,11 +274,13 @@ Particle FillPasses::newborn_at(const Vec3& position) {
 
 /// Newborns since the last snapshot fly straight at their birth speed
 /// (they are the fastest particles there): predicted, they need no read-back.
-bool FillPasses::newborns_clear(const Vec3& site, double clearance) const {
+/// Unequal spheres: clear of each by the birth clearance of the pair's radii.
+bool FillPasses::newborns_clear(const Vec3& site, double radius, double clearance) const {
   const double dt = engine_.constants().dt;
   for (const Newborn& b : newborns_) {
     const Vec3 now = b.position + b.velocity * (dt * static_cast<double>(engine_.steps_done() - b.step));
-    if (length(now - site) < clearance) return false;
+    const double reach = sizes_ ? plan_.birth_clearance * (radius + b.radius) : clearance;
+    if (length(now - site) < reach) return false;
   }
   return true;
 }

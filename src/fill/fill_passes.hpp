@@ -8,11 +8,13 @@
 // outside are removed then.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <vector>
 
 #include "fill/fill_plan.hpp"
 #include "fill/fill_progress.hpp"
+#include "fill/size_deficit.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/fill.hpp"
 
@@ -37,8 +39,10 @@ class FillPasses {
   bool may_birth() const;
   int birth_at_sites();
   int birth_wave();
-  Particle newborn_at(const Vec3& position);
-  bool newborns_clear(const Vec3& site, double clearance) const;
+  Particle newborn_at(const Vec3& position, double radius);
+  bool newborns_clear(const Vec3& site, double radius, double clearance) const;
+  template <class HasRoom>
+  double newborn_radius(const HasRoom& has_room);
   Vec3 random_direction();
   void remove_newest();
   void follow_newest_through_removals(const std::vector<size_t>& removed);
@@ -56,9 +60,13 @@ class FillPasses {
   double top_speed_ = 0;
   std::vector<StepRecord> history_;
   std::vector<Vec3> snapshot_;   ///< positions at the last read, for the room tests
+  std::vector<double> snapshot_radii_;  ///< unequal spheres: their radii
+  /// Unequal spheres: the size classes' counts, which choose each newborn's radius.
+  std::optional<SizeDeficit> sizes_;
   struct Newborn {
     Vec3 position, velocity;
     uint64_t step;
+    double radius;
   };
   std::vector<Newborn> newborns_;  ///< born since the last snapshot
   size_t newest_;                  ///< index of the last particle born (Engine::kGone: removed)

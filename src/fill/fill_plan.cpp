@@ -31,7 +31,19 @@ constexpr double kDeviceBytesFixed = 1024 * 96;
 
 }  // namespace
 
+std::optional<RadiusDistribution> fill_sizes(const FillOptions& o, double volume, double area) {
+  if (!o.radii) return std::nullopt;
+  RadiusDistribution d = *o.radii;
+  if (o.radii_by != d.basis() && !d.spec().empty()) d = RadiusDistribution::parse(d.spec(), o.radii_by);
+  if (o.count > 0) d = d.scaled(fill_scale_for_count(volume, area, o.count, d, o.max_overlap));
+  return d;
+}
+
 double particle_radius(const FillOptions& o, double volume, double area) {
+  if (o.radii) {
+    const auto d = fill_sizes(o, volume, area);
+    return d && volume > 0 ? d->mean() : 0;
+  }
   return o.radius > 0 ? o.radius : fill_radius_for_count(volume, area, o.count, o.max_overlap, o.rest_distance);
 }
 
@@ -40,9 +52,14 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
   plan.volume = d.volume();
   plan.area = d.surface_area;
   if (!(plan.volume > 0)) throw Error("the mesh encloses no volume; pfill needs a closed solid");
-  plan.radius = particle_radius(o, plan.volume, plan.area);
+  plan.sizes = fill_sizes(o, plan.volume, plan.area);
+  plan.radius = plan.sizes ? plan.sizes->min_radius() : particle_radius(o, plan.volume, plan.area);
   if (!(plan.radius > 0)) throw Error("give a particle radius (-r) or a count (-n)");
-  plan.expected = expected_fill_count(plan.volume, plan.area, plan.radius * o.rest_distance, o.max_overlap, o.rest_distance);
+  plan.mean_radius = plan.sizes ? plan.sizes->mean() : plan.radius;
+  plan.max_radius = plan.sizes ? plan.sizes->max_radius() : plan.radius;
+  plan.expected = plan.sizes ? expected_fill_count(plan.volume, plan.area, *plan.sizes, o.max_overlap)
+                             : expected_fill_count(plan.volume, plan.area, plan.radius * o.rest_distance,
+                                                   o.max_overlap, o.rest_distance);
   if (plan.expected > kMaxParticles)
     throw Error("a radius of " + short_number(plan.radius) + " would give about " + short_number(plan.expected) +
                 " particles, more than pfill handles (" + short_number(kMaxParticles) +
@@ -50,20 +67,23 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
 
   // The field: at a share of r, coarsened to stay within max_field_samples.
   SdfOptions& so = plan.field;
-  so.spacing = o.field_spacing * plan.radius;
+  so.spacing = o.field_spacing * plan.mean_radius;
   const Vec3 size = bounds.size();
-  const double margin = 3 * so.spacing + 2 * plan.radius;
+  const double margin = 3 * so.spacing + 2 * plan.mean_radius + (plan.max_radius - plan.mean_radius);
   auto samples = [&](double h) {
     return (size.x + 2 * margin) / h * (size.y + 2 * margin) / h * (size.z + 2 * margin) / h;
   };
   if (samples(so.spacing) > static_cast<double>(o.max_field_samples)) {
     so.spacing *= std::cbrt(samples(so.spacing) / static_cast<double>(o.max_field_samples)) * 1.01;
-    plan.warnings.push_back("the distance field was coarsened to a spacing of " + short_number(so.spacing / plan.radius) +
+    plan.warnings.push_back("the distance field was coarsened to a spacing of " + short_number(so.spacing / plan.mean_radius) +
                             " r to stay within " + short_number(static_cast<double>(o.max_field_samples)) +
                             " samples; the final exact check corrects what it misses");
   }
-  so.margin = 2 * plan.radius + 3 * so.spacing;
-  so.band = std::max(3 * plan.radius, 4 * so.spacing);
+  // Unequal spheres: the wall pushes each at its own radius, so the band of
+  // exact distances reaches the largest's (a band of 3 of them made the
+  // bunny's field exact everywhere at radii 1:10).
+  so.margin = 2 * plan.mean_radius + (plan.max_radius - plan.mean_radius) + 3 * so.spacing;
+  so.band = std::max({3 * plan.mean_radius, plan.max_radius + 4 * so.spacing, 4 * so.spacing});
 
   plan.waves = o.sites == 0 || (o.sites < 0 && std::llround(plan.expected) >= static_cast<long long>(kWavesFrom));
   plan.birth_every = o.birth_every > 0 ? o.birth_every : (plan.waves ? kWaveEvery : 3);
@@ -74,9 +94,11 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
 std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& field, const Boundary& boundary,
                                         const FillOptions& o) {
   std::vector<BirthSite> sites;
-  if (plan.waves) sites = spread_birth_sites(field, o.site_spacing * plan.rest_distance(o), o.site_min_depth * plan.radius);
+  // (Unequal spheres: sites spaced and as deep as for spheres of the mean radius.)
+  if (plan.waves)
+    sites = spread_birth_sites(field, o.site_spacing * plan.mean_rest_distance(o), o.site_min_depth * plan.mean_radius);
   if (sites.empty())  // the report's sites; for waves, the one deepest point of a thin object
-    sites = choose_birth_sites(field, o.sites < 0 ? 2 : std::max(1, o.sites), plan.radius, o.site_depth);
+    sites = choose_birth_sites(field, o.sites < 0 ? 2 : std::max(1, o.sites), plan.mean_radius, o.site_depth);
   if (sites.empty()) {
     double deepest = 0;
     for (float v : field.values) deepest = std::max(deepest, -static_cast<double>(v));
@@ -99,7 +121,9 @@ std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& 
 EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o) {
   EngineParams p;
   p.radius = plan.radius;
-  p.max_radius = plan.radius * (1 + 1e-6);  // radii come back from the device as floats
+  p.max_radius = plan.max_radius * (1 + 1e-6);  // radii come back from the device as floats
+  // Unequal spheres: each pair's sigma, cutoff and rest distance scale with r_i + r_j.
+  if (plan.sizes) p.pair_scaling = PairScaling::on;
   p.rest_distance = plan.rest_distance(o);
   p.eps = o.epsilon;
   p.exponent_a = o.exponents[0];

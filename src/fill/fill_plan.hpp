@@ -3,6 +3,7 @@
 // schedule and its sites, the engine's settings, and whether the device
 // holds it all.
 #pragma once
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,11 @@ class Device;
 struct FillPlan {
   double volume = 0;          ///< of the mesh (or the union of its parts)
   double area = 0;            ///< of its surface
-  double radius = 0;          ///< of every sphere
+  double radius = 0;          ///< of every sphere; unequal spheres: the smallest (the engine's reference)
+  /// Unequal spheres: the radii's distribution in mesh units; empty: all `radius`.
+  std::optional<RadiusDistribution> sizes;
+  double mean_radius = 0;     ///< by number; sets the field's spacing and the sites' (equal: radius)
+  double max_radius = 0;      ///< the largest sphere (equal: radius)
   double expected = 0;        ///< particles when full, by the count rule
   SdfOptions field{0};        ///< the distance field's spacing, margin and band
   bool waves = false;         ///< births in waves over spread sites (else the report's sites)
@@ -28,14 +33,22 @@ struct FillPlan {
   double birth_clearance = 0.5;  ///< room test radius, in rest distances
   std::vector<std::string> warnings;  ///< what the plan had to give up (a coarsened field)
 
-  /// Centre distance at the potential's minimum: 2r, or more for sparser fills.
+  /// Centre distance at the potential's minimum: 2r, or more for sparser
+  /// fills (unequal spheres: of two of the smallest; each pair's scales).
   double rest_distance(const FillOptions& o) const { return o.rest_distance * 2 * radius; }
+  /// The same for two spheres of the mean radius: what sites are spaced by.
+  double mean_rest_distance(const FillOptions& o) const { return o.rest_distance * 2 * mean_radius; }
 };
 
 /// The radius of a fill: -r, or the one that gives about -n particles.
 /// Particles keep the rest distance apart, so with a count the spacing, not
-/// the sphere, is what must fit (the report's Fig. 4).
+/// the sphere, is what must fit (the report's Fig. 4). Unequal spheres:
+/// the mean radius of fill_sizes().
 double particle_radius(const FillOptions& o, double volume, double area);
+
+/// Unequal spheres: FillOptions::radii in mesh units (scaled to the count
+/// when one is given); empty for equal spheres.
+std::optional<RadiusDistribution> fill_sizes(const FillOptions& o, double volume, double area);
 
 /// Radius, expected count, field and schedule for `o` on a mesh of box
 /// `bounds` and diagnostics `d` (`o` checked: check_fill_options); throws

@@ -19,6 +19,27 @@ nlohmann::ordered_json metrics_json(const PackingMetrics& m) {
           {"largest_hole_over_r", m.largest_hole}};
 }
 
+nlohmann::ordered_json radii_json(const FillResult& r) {
+  if (!r.radii || !r.radii_fit) return nullptr;  // equal spheres: `radius`
+  const RadiusDistribution& d = *r.radii;
+  const DistributionFit& f = *r.radii_fit;
+  nlohmann::ordered_json classes = nlohmann::ordered_json::array();
+  for (const DistributionFit::ClassFit& c : f.classes)
+    classes.push_back({{"radii", {c.lo, c.hi}},
+                       {"requested_number_share", c.requested_number},
+                       {"number_share", c.achieved_number},
+                       {"requested_volume_share", c.requested_volume},
+                       {"volume_share", c.achieved_volume}});
+  return {{"spec", d.spec()},
+          {"by", to_string(d.basis())},
+          {"law", d.describe()},
+          {"requested", {{"mean", d.mean()}, {"stddev", d.stddev()}, {"skewness", d.skewness()},
+                         {"min", d.min_radius()}, {"max", d.max_radius()}, {"rcp_gain", d.rcp_gain()}}},
+          {"achieved", {{"mean", f.mean}, {"stddev", f.stddev}, {"skewness", f.skewness}}},
+          {"distance", f.distance},
+          {"classes", classes}};
+}
+
 nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& mesh, uint64_t seed,
                                         const std::string& output) {
   nlohmann::ordered_json passes = nlohmann::ordered_json::array();
@@ -51,6 +72,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
           {"sites", sites},
           {"parts", {{"closed", r.parts}, {"too_small", r.parts_too_small}}},
+          {"radii", radii_json(r)},
           {"warnings", r.warnings}};
 }
 

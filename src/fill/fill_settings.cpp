@@ -105,6 +105,24 @@ FillSetting text_setting(const char* name, std::string FillOptions::*field, Sett
           [=](const FillOptions& o) { return o.*field; }};
 }
 
+// The two settings of unequal spheres parse each other's way: the basis
+// re-reads a SPEC given before it, so their order on a command line or in
+// Python's keywords does not matter.
+FillSetting radii_setting(const char* name, SettingTier tier, const char* help) {
+  return {name, "", tier, "SPEC", help,
+          [](FillOptions& o, const std::string& t) { o.radii = RadiusDistribution::parse(t, o.radii_by); },
+          [](const FillOptions& o) { return o.radii ? o.radii->spec() : std::string(); }};
+}
+
+FillSetting radii_by_setting(const char* name, SettingTier tier, const char* help) {
+  return {name, "", tier, "number|volume", help,
+          [](FillOptions& o, const std::string& t) {
+            o.radii_by = parse_fraction_basis(t);
+            if (o.radii && !o.radii->spec().empty()) o.radii = RadiusDistribution::parse(o.radii->spec(), o.radii_by);
+          },
+          [](const FillOptions& o) { return std::string(to_string(o.radii_by)); }};
+}
+
 FillSetting point_setting(const char* name, std::optional<Vec3> FillOptions::*field, SettingTier tier,
                           const char* help) {
   return {name, "", tier, "X,Y,Z", help,
@@ -151,8 +169,13 @@ std::vector<FillSetting> make_table() {
                  "-n"),
       with_short(real(FIELD(radius), T::User, "Particle radius in mesh units (instead of a count)", true),
                  "-r"),
+      radii_setting("radii", T::User,
+                    "Unequal spheres: uniform:MIN,MAX | lognormal:MEDIAN,SIGMA (sigma of ln r) | normal:MEAN,STD "
+                    "(both cut at 3 sigma) | discrete:R1:F1,R2:F2,... | FILE.csv (radius, cumulative volume "
+                    "fraction); fractions by number except a CSV's; with -n the radii are relative"),
+      radii_by_setting("radii_by", T::User, "What discrete:... fractions are: number (default) or volume"),
       real(FIELD(max_overlap), T::User,
-           "Largest overlap of any pair after the fill, a fraction of r (0: none)"),
+           "Largest overlap of any pair after the fill, a fraction of r (of the smaller radius) (0: none)"),
       real(FIELD(rest_distance), T::User,
            "Rest distance of the potential in contact distances 2r (>= 1; larger: sparser)"),
       real(FIELD(epsilon), T::User, "Depth of the potential well"),

@@ -2,6 +2,7 @@
 // through the surface moved in or removed, holes it hid near the wall
 // given a sphere, then the metrics and the colours.
 #pragma once
+#include <optional>
 #include <cstdint>
 
 #include "pfill/boundary.hpp"
@@ -14,7 +15,11 @@ namespace pfill {
 /// measures and colours them, and moves them into `result` (particles,
 /// metrics, containment, holes_filled, warnings). `next_id` labels the
 /// spheres it inserts.
-void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius, const FillOptions& o,
-                 ParticleSet particles, uint64_t& next_id, FillResult& result);
+/// Unequal spheres (`sizes`, mesh units; `radius` its smallest): holes take
+/// a sphere of a class short of its share, and the result says how the
+/// radii follow the distribution (FillResult::radii_fit).
+void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius,
+                 const std::optional<RadiusDistribution>& sizes, const FillOptions& o, ParticleSet particles,
+                 uint64_t& next_id, FillResult& result);
 
 }  // namespace pfill

@@ -19,6 +19,7 @@
 // `chunk_steps` steps (a few scalars) and the positions once a relaxation.
 #include "fill/finish.hpp"
 #include "fill/particle_set_of.hpp"
+#include "fill/size_deficit.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -27,16 +28,21 @@
 
 #include "pfill/error.hpp"
 #include "pfill/packing_metrics.hpp"
+#include "pfill/sdf.hpp"
 #include "pfill/voids.hpp"
 
 namespace pfill {
 namespace {
 
-/// The engine's particles at the true radius (the engine's are smaller by
-/// half the bound).
-ParticleSet to_set(const std::vector<Particle>& ps, double radius) {
+/// The engine's particles at their true radii (the engine's are smaller by
+/// `shrink`: half the bound of the smallest).
+ParticleSet to_set(const std::vector<Particle>& ps, double radius, double shrink, bool unequal) {
   ParticleSet set = to_particle_set(ps);
-  set.radii.assign(ps.size(), radius);
+  if (!unequal) {
+    set.radii.assign(ps.size(), radius);  // exact: the engine's floats would round it
+  } else {
+    for (double& r : set.radii) r += shrink;
+  }
   return set;
 }
 
@@ -49,7 +55,11 @@ class Finisher {
     // The engine's spheres are smaller by half the bound, so that the
     // colliding pairs it counts every step are those over the bound, and
     // its wall moves in by as much, so that centres stay r inside.
-    engine_radius_ = s.radius * (1 - 0.5 * s.max_overlap);
+    // Unequal spheres: every engine sphere is smaller by the same length, so
+    // that the pairs counted are those over the bound of the smallest
+    // radius, at most the bound of the pair's smaller one.
+    shrink_ = 0.5 * s.max_overlap * s.radius;
+    engine_radius_ = s.radius - shrink_;
     deep_ = s.radius * (1 + s.wall_margin);
     EngineParams p = base;
     p.cutoff_sigma = 0;  // purely repulsive: attraction would pull spheres together
@@ -71,10 +81,14 @@ class Finisher {
   }
 
   ParticleSet run(std::vector<Particle> ps) {
+    if (s_.sizes) sizes_.emplace(*s_.sizes);
     for (Particle& p : ps) {
       p.velocity = {};
-      p.radius = engine_radius_;
-      p.mass = 0;
+      p.radius = sizes_ ? p.radius - shrink_ : engine_radius_;
+      // One mass for all: the relaxation is a minimiser, and unequal masses
+      // left the large spheres slow to give way (spot -n 4000, radii 1:2:
+      // 0.593 with masses by volume, 0.605 with one mass).
+      p.mass = 1;
     }
     engine_->add_particles(ps);
     std::vector<Particle>().swap(ps);  // on the device now
@@ -84,7 +98,7 @@ class Finisher {
     ParticleSet now;
     for (int round = 0;; ++round) {
       const bool stalled = relax();
-      now = to_set(engine_->read_particles(), s_.radius);
+      now = current();
       const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
       size_t over = 0;
       for (const Overlap& o : overlaps) over += o.fraction > s_.max_overlap;
@@ -107,7 +121,9 @@ class Finisher {
       }
       if ((!compressing && holes_done >= s_.hole_rounds) || round + 1 >= s_.max_rounds) break;
       const double clearance = compressing ? s_.compress_clearance : s_.hole_clearance;
-      const std::vector<Vec3> holes = find_holes(now, field_, deep_, clearance * s_.radius, now.size());
+      std::vector<double> gaps;
+      const std::vector<Vec3> holes =
+          find_holes(now, field_, deep_, clearance * s_.radius, now.size(), sizes_ ? s_.radius : 0, &gaps);
       // A round of a few holes does not pay for its relaxation (each takes
       // about 1,500 steps to settle, whatever the number of newcomers): the
       // fit pass below takes those a sphere fits in as they are.
@@ -117,30 +133,55 @@ class Finisher {
         continue;
       }
       if (!compressing) ++holes_done;
-      std::vector<Particle> newcomers(holes.size());
+      std::vector<Particle> newcomers;
+      if (sizes_) sizes_->recount(now.radii);
       for (size_t k = 0; k < holes.size(); ++k) {
-        newcomers[k].position = holes[k];
-        newcomers[k].radius = engine_radius_;
-        newcomers[k].id = next_id_++;
+        // Unequal spheres: as large as the hole takes at this clearance's
+        // overlap (the same share of the radius as for the smallest), of
+        // a class still short of its share.
+        const double r =
+            sizes_ ? hole_radius(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius))
+                   : s_.radius;
+        if (r <= 0) continue;
+        Particle p;
+        p.position = holes[k];
+        p.radius = r - shrink_;
+        p.mass = 1;
+        p.id = next_id_++;
+        newcomers.push_back(p);
       }
       engine_->add_particles(newcomers);
-      stats_.inserted += holes.size();
-      last_inserted = holes.size();
+      stats_.inserted += newcomers.size();
+      last_inserted = newcomers.size();
       deleted_since_insert = 0;
     }
     // Holes a sphere fits in without overlap (a deletion after the last
     // insertion may leave one) take one as they are: nothing to relax.
-    now = to_set(engine_->read_particles(), s_.radius);
-    const std::vector<Vec3> fits = s_.hole_rounds > 0
-                                       ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size())
-                                       : std::vector<Vec3>{};
-    for (const Vec3& p : fits) {
-      now.positions.push_back(p);
-      now.radii.push_back(s_.radius);
+    now = current();
+    std::vector<double> gaps;
+    const std::vector<Vec3> fits =
+        s_.hole_rounds > 0 ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size(),
+                                        sizes_ ? s_.radius : 0, &gaps)
+                           : std::vector<Vec3>{};
+    if (sizes_) sizes_->recount(now.radii);
+    const size_t before = now.size();
+    for (size_t k = 0; k < fits.size(); ++k) {
+      // Unequal spheres: no larger than the gap to the nearest sphere, nor
+      // than to the fits placed before it (each counted as the smallest).
+      double r = s_.radius;
+      if (sizes_) {
+        double room = gaps[k] - s_.radius;
+        for (size_t m = before; m < now.size(); ++m)
+          room = std::min(room, length(now.positions[m] - fits[k]) - now.radii[m]);
+        r = hole_radius(fits[k], room);
+        if (r <= 0) continue;
+      }
+      now.positions.push_back(fits[k]);
+      now.radii.push_back(r);
       now.ids.push_back(next_id_++);
       now.velocities.push_back({});
+      ++stats_.inserted;
     }
-    stats_.inserted += fits.size();
     stats_.next_id = next_id_;
     return now;
   }
@@ -148,6 +189,24 @@ class Finisher {
   void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
 
  private:
+  /// The spheres now, at their true radii.
+  ParticleSet current() const { return to_set(engine_->read_particles(), s_.radius, shrink_, sizes_.has_value()); }
+
+  /// Unequal spheres: the radius a hole at `p` gets, at most `room` (and
+  /// deep enough inside by the field): of the class furthest below its
+  /// share that fits; 0 when none does.
+  double hole_radius(const Vec3& p, double room) {
+    room = std::min(room, -sample(field_, p) / (1 + s_.wall_margin));
+    for (size_t k : sizes_->candidates()) {
+      if (sizes_->smallest_of(k) > room) continue;
+      double r = sizes_->draw(k, rng_);
+      if (r > room) r = sizes_->smallest_of(k);
+      sizes_->add(r);
+      return r;
+    }
+    return 0;
+  }
+
   /// Steps until no pair is over the bound, the count of those stops
   /// falling, or the budget runs out; removes any the wall flagged outside.
   bool relax() {
@@ -231,7 +290,13 @@ class Finisher {
       if (o.fraction > s_.max_overlap) root[find(o.i)] = find(o.j);
     std::vector<bool> blocked(n, false), jam_done(n, false), chosen(n, false);
     std::vector<size_t> out;
+    // Unequal spheres: a class goes only while it keeps its share (the
+    // large are the most pressed: deleting by pressure alone thinned them,
+    // 1:2 half-half ended 60:40).
+    if (sizes_) sizes_->recount(now.radii);
+    auto may_go = [&](size_t i) { return !sizes_ || sizes_->may_lose(sizes_->class_of(now.radii[i])); };
     auto take = [&](size_t i) {
+      if (sizes_) sizes_->remove(now.radii[i]);
       out.push_back(i);
       chosen[i] = true;
       jam_done[find(static_cast<uint32_t>(i))] = true;
@@ -250,12 +315,12 @@ class Finisher {
     const size_t most = static_cast<size_t>(std::ceil(s_.jam_share * static_cast<double>(jams)));
     for (size_t i : candidates) {
       if (out.size() >= most) break;
-      if (!jam_done[find(static_cast<uint32_t>(i))] && !blocked[i]) take(i);
+      if (!jam_done[find(static_cast<uint32_t>(i))] && !blocked[i] && may_go(i)) take(i);
     }
     const size_t want = static_cast<size_t>(std::ceil(s_.removal_share * excess));
     for (size_t i : candidates) {
       if (out.size() >= want) break;
-      if (!blocked[i] && !chosen[i]) take(i);
+      if (!blocked[i] && !chosen[i] && may_go(i)) take(i);
     }
     stats_.removed += out.size();
     engine_->remove_particles(out);
@@ -285,7 +350,10 @@ class Finisher {
   FinishSettings s_;
   const ScalarGrid& field_;
   FinishStats& stats_;
-  double engine_radius_ = 0;
+  double engine_radius_ = 0;  ///< the smallest's in the engine
+  double shrink_ = 0;         ///< every engine sphere is smaller than its true radius by this
+  std::optional<SizeDeficit> sizes_;
+  std::mt19937_64 rng_{0x5eed};  ///< radii drawn inside a class (the same for the same packing)
   double deep_ = 0;  ///< how deep (by the field) a centre must lie
   uint64_t next_id_ = s_.first_id;  ///< the next inserted sphere's id
   std::unique_ptr<ParticleEngine> engine_;

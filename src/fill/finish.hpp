@@ -6,18 +6,25 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "pfill/engine/engine.hpp"
 #include "pfill/grid.hpp"
 #include "pfill/particles.hpp"
+#include "pfill/radius_distribution.hpp"
 
 namespace pfill {
 
 class Device;
 
 struct FinishSettings {
-  double radius = 0;            ///< the spheres' radius
+  double radius = 0;            ///< the spheres' radius (unequal spheres: the smallest)
+  /// Unequal spheres: their distribution (mesh units), which holes' spheres
+  /// keep to (SizeDeficit); every bound is then of the pair's smaller radius,
+  /// kept by measuring it at the smallest (the engine's spheres are all
+  /// smaller by the same length). Empty: all of `radius`.
+  std::optional<RadiusDistribution> sizes;
   double max_overlap = 0.001;   ///< bound on every pair's overlap, fraction of r
   double inflation = std::nan("");  ///< contact distance while relaxing: 2r (1 + inflation); NaN: automatic (finish_inflation)
   double time_step = 0.03;      ///< relaxation step, in tau of the inflated potential

@@ -17,10 +17,19 @@
 namespace pfill {
 namespace {
 
+/// How much the largest sphere exceeds `radius` (unequal spheres: their
+/// surfaces lie nearer than their centres say by up to this).
+double larger_by(const ParticleSet& particles, double radius) {
+  double widest = radius;
+  for (double r : particles.radii) widest = std::max(widest, r);
+  return widest - radius;
+}
+
 class HoleSearch {
  public:
   HoleSearch(const Boundary& boundary, const ParticleSet& particles, double radius)
-      : boundary_(boundary), particles_(particles), radius_(radius), reach_(3 * radius), h_(0.5 * radius),
+      : boundary_(boundary), particles_(particles), radius_(radius),
+        reach_(3 * radius + larger_by(particles, radius)), h_(0.5 * radius),
         grid_(particles.positions, reach_) {
     Box3 box;
     for (const Vec3& c : particles.positions) box.add(c);
@@ -55,7 +64,7 @@ class HoleSearch {
 
   /// Distance from p to the nearest sphere's surface (reach - r when none is in reach).
   double gap(const Vec3& p) const {
-    double g = reach_ - radius_;
+    double g = 2 * radius_;  // (holes over 2 r count as 2 r)
     grid_.for_near(p, [&](uint32_t i) { g = std::min(g, length(particles_.positions[i] - p) - particles_.radii[i]); });
     return g;
   }

@@ -36,7 +36,7 @@ std::vector<Overlap> find_overlaps(const ParticleSet& particles, double min_frac
       if (j <= i) return;
       const double ri = particles.radii[i], rj = particles.radii[j];
       const double d = length(particles.positions[j] - particles.positions[i]);
-      const double fraction = (ri + rj - d) / (0.5 * (ri + rj));
+      const double fraction = (ri + rj - d) / std::min(ri, rj);  // of the smaller radius (issue 29)
       if (fraction > kTouching && fraction > min_fraction) out.push_back({static_cast<uint32_t>(i), j, fraction});
     });
   }
@@ -74,11 +74,12 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   for (size_t i = 0; i < particles.size(); ++i) {
     grid.for_near(particles.positions[i], [&](uint32_t j) {
       if (j <= i) return;
-      const double ri = particles.radii[i], rj = particles.radii[j], mean_r = 0.5 * (ri + rj);
+      // Unequal spheres: gaps and overlaps as fractions of the smaller radius.
+      const double ri = particles.radii[i], rj = particles.radii[j], small_r = std::min(ri, rj);
       const double d = length(particles.positions[j] - particles.positions[i]);
-      if (d < ri + rj + options.contact_gap * mean_r) ++contacts;
+      if (d < ri + rj + options.contact_gap * small_r) ++contacts;
       if (d <= cell) min_ratio = std::min(min_ratio, d / (ri + rj));  // farther: maybe not the closest pair
-      const double fraction = (ri + rj - d) / mean_r;
+      const double fraction = (ri + rj - d) / small_r;
       if (fraction > kTouching) {
         ++m.overlapping_pairs;
         overlap_sum += fraction;

@@ -180,7 +180,7 @@ const char* to_string(FractionBasis basis) { return basis == FractionBasis::Volu
 FractionBasis parse_fraction_basis(const std::string& text) {
   if (text == "number") return FractionBasis::Number;
   if (text == "volume") return FractionBasis::Volume;
-  throw Error("radii fractions \"" + excerpt(text) + "\": expected number or volume (what discrete:R:F fractions "
+  throw Error("radii_by \"" + excerpt(text) + "\": expected number or volume (what discrete:R:F fractions "
               "count)");
 }
 

@@ -12,14 +12,24 @@
 
 namespace pfill {
 std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit) {
+                             size_t limit, double reference_radius, std::vector<double>* distances) {
   std::vector<Vec3> holes;
-  const double reach = clearance;  // nearest centres beyond the clearance do not matter
+  // Unequal spheres: distances to sphere surfaces, plus the reference
+  // radius (so that for spheres of that radius they are centre distances).
+  const bool unequal = reference_radius > 0;
+  double widest = reference_radius;
+  if (unequal)
+    for (double r : particles.radii) widest = std::max(widest, r);
+  const double shift = widest - reference_radius;  // the most a sphere's surface is nearer than its centre says
+  const double reach = clearance + shift;  // nearest spheres beyond the clearance do not matter
   CentreGrid grid(particles.positions, reach);
   auto centre = [&](uint32_t id) { return id < particles.size() ? particles.positions[id] : holes[id - particles.size()]; };
+  auto offset = [&](uint32_t id) {  // a taken hole counts as a sphere of the reference radius
+    return unequal && id < particles.size() ? particles.radii[id] - reference_radius : 0.0;
+  };
   auto nearest = [&](const Vec3& p) {
-    double d = reach;
-    grid.for_near(p, [&](uint32_t id) { d = std::min(d, length(centre(id) - p)); });
+    double d = clearance;
+    grid.for_near(p, [&](uint32_t id) { d = std::min(d, length(centre(id) - p) - offset(id)); });
     return d;
   };
   // Grid points whose nearest centre is within the grid's reach of the clearance ...
@@ -39,7 +49,8 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
         // Most points have a centre well within the clearance: one found ends the search.
         if (grid.any_near(p, [&](uint32_t id) {
               const Vec3 v = particles.positions[id] - p;
-              return dot(v, v) < surely_near2;
+              if (!unequal) return dot(v, v) < surely_near2;
+              return length(v) - offset(id) < least * (1 - 1e-9);
             }))
           continue;
         const double d = nearest(p);
@@ -60,6 +71,7 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
                                           [&](const Vec3& q) { return -sample(sdf, q) >= radius; });
     if (d < clearance) continue;
     holes.push_back(p);
+    if (distances) distances->push_back(d);
     grid.insert(p, next_id++);
   }
   return holes;

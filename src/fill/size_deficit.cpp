@@ -1,0 +1,71 @@
+// Size classes kept at their shares (size_deficit.hpp).
+#include "fill/size_deficit.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace pfill {
+namespace {
+
+// Classes a continuous law is drawn by: fine enough that a class's own
+// spread matters little, few enough that each holds many spheres.
+constexpr int kBins = 16;
+
+}  // namespace
+
+SizeDeficit::SizeDeficit(const RadiusDistribution& sizes)
+    : sizes_(sizes), classes_(sizes.size_classes(kBins)), count_(classes_.size(), 0) {}
+
+void SizeDeficit::recount(const std::vector<double>& radii) {
+  std::fill(count_.begin(), count_.end(), 0);
+  for (double r : radii) ++count_[class_of(r)];
+  total_ = radii.size();
+}
+
+void SizeDeficit::remove(double radius) {
+  size_t& c = count_[class_of(radius)];
+  if (c > 0) --c, --total_;
+}
+
+std::vector<size_t> SizeDeficit::candidates(double surplus_share) const {
+  const double next = static_cast<double>(total_ + 1);
+  const double surplus = std::max(1.0, surplus_share * next);
+  std::vector<std::pair<double, size_t>> by_deficit;
+  for (size_t k = 0; k < classes_.size(); ++k) {
+    const double deficit = classes_[k].number_share * next - static_cast<double>(count_[k]);
+    if (deficit > -surplus) by_deficit.push_back({deficit, k});
+  }
+  std::sort(by_deficit.begin(), by_deficit.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second > b.second);
+  });
+  std::vector<size_t> out;
+  for (const auto& d : by_deficit) out.push_back(d.second);
+  return out;
+}
+
+bool SizeDeficit::may_lose(size_t k, double surplus_share) const {
+  if (total_ == 0 || count_[k] == 0) return false;
+  const double left = static_cast<double>(total_ - 1);
+  return static_cast<double>(count_[k] - 1) - classes_[k].number_share * left > -std::max(1.0, surplus_share * left);
+}
+
+double SizeDeficit::draw(size_t k, std::mt19937_64& rng) const {
+  return sizes_.draw_in_class(classes_, k, std::uniform_real_distribution<double>(0, 1)(rng));
+}
+
+size_t SizeDeficit::class_of(double radius) const {
+  // Classes ascend and touch; a radius read back as a float may miss its
+  // class by a rounding: the nearest class takes it.
+  size_t best = 0;
+  double best_miss = INFINITY;
+  for (size_t k = 0; k < classes_.size(); ++k) {
+    const double miss = radius < classes_[k].lo ? classes_[k].lo - radius
+                        : radius > classes_[k].hi ? radius - classes_[k].hi
+                                                  : 0;
+    if (miss < best_miss) best = k, best_miss = miss;
+    if (miss == 0) break;
+  }
+  return best;
+}
+
+}  // namespace pfill

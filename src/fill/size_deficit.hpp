@@ -1,0 +1,48 @@
+// Unequal spheres: which size the next sphere should have, so that what
+// ends in the mesh follows the requested distribution. Large spheres find
+// room less often as the fill grows; drawing at random would leave them
+// short. Instead each size class keeps a count of the spheres present, and
+// a birth (or a hole of the finish) takes the class furthest below its
+// share, trying smaller ones where the large do not fit, within a small
+// surplus: the distribution holds at every moment of the fill.
+#pragma once
+#include <cstddef>
+#include <random>
+#include <vector>
+
+#include "pfill/radius_distribution.hpp"
+
+namespace pfill {
+
+class SizeDeficit {
+ public:
+  /// `sizes` in mesh units.
+  explicit SizeDeficit(const RadiusDistribution& sizes);
+
+  /// Counts the spheres present (their radii) afresh.
+  void recount(const std::vector<double>& radii);
+  void add(double radius) { ++count_[class_of(radius)], ++total_; }
+  void remove(double radius);
+
+  /// The classes a new sphere may take, furthest below their share first
+  /// (ties: the larger): those whose count stays within the allowed surplus
+  /// (a class may run ahead by `surplus_share` of the spheres, at least one).
+  std::vector<size_t> candidates(double surplus_share = 0.002) const;
+  /// Whether a sphere of class k may go without leaving its class short
+  /// of its share by more than the surplus a class may run ahead by.
+  bool may_lose(size_t k, double surplus_share = 0) const;
+  /// A radius of class k, drawn by the law inside the class.
+  double draw(size_t k, std::mt19937_64& rng) const;
+  /// The class's smallest radius (a hole too small for it takes none of it).
+  double smallest_of(size_t k) const { return classes_[k].lo; }
+  size_t class_of(double radius) const;
+  size_t classes() const { return classes_.size(); }
+
+ private:
+  RadiusDistribution sizes_;
+  std::vector<SizeClass> classes_;
+  std::vector<size_t> count_;
+  size_t total_ = 0;
+};
+
+}  // namespace pfill
