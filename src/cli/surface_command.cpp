@@ -2,6 +2,7 @@
 // surface at spacing 2R (include/pfill/surface_sampling.hpp), each with its
 // outward normal and area, and the shell's figures. Also the shell's JSON
 // that `pfill check --shell` and `pfill fill --shell` print.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -47,16 +48,25 @@ void print_shell(std::FILE* out, const ShellStats& s) {
                s.coverage_over_r, thousands(s.surface_points).c_str());
 }
 
-ShellStats measure_shell_of(const Boundary& boundary, const ParticleSet& particles) {
+ShellStats measure_shell_of(const Boundary& boundary, const ParticleSet& particles,
+                            const ParticleAttributes* attributes) {
+  const bool kinds = attributes && attributes->has_kinds();
   std::vector<Vec3> on_surface;
-  double radius = 0;
+  double radius = 0, smallest = HUGE_VAL, largest = 0;
   for (size_t i = 0; i < particles.size(); ++i)
-    if (boundary.closest(particles.positions[i]).distance <= 0.5 * particles.radii[i]) {
+    if (kinds ? attributes->kinds[i] == static_cast<uint8_t>(ParticleKind::Boundary)
+              : boundary.closest(particles.positions[i]).distance <= 0.5 * particles.radii[i]) {
       on_surface.push_back(particles.positions[i]);
       radius += particles.radii[i];
+      smallest = std::min(smallest, particles.radii[i]);
+      largest = std::max(largest, particles.radii[i]);
     }
-  if (on_surface.empty()) throw Error("--shell: no particle lies on the surface (within half its radius)");
-  return measure_shell(boundary, on_surface, radius / on_surface.size());
+  if (on_surface.empty())
+    throw Error(kinds ? "--shell: the file marks no particle as boundary (kind 1)"
+                      : "--shell: no particle lies on the surface (within half its radius)");
+  // One radius (a shell's): that radius itself, so the figures equal those
+  // `fill --shell` and `pfill surface` print (a mean differs in the last bits).
+  return measure_shell(boundary, on_surface, smallest == largest ? smallest : radius / on_surface.size());
 }
 
 double surface_radius_for_count(const Mesh& mesh, size_t count) {
