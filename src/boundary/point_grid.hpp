@@ -31,8 +31,10 @@ class PointGrid {
       cells += i == 0 || order[i].first != order[i - 1].first;
     }
     size_t size = 16;
-    while (size < 2 * cells) size *= 2;
+    int bits = 4;
+    while (size < 2 * cells) size *= 2, ++bits;
     mask_ = size - 1;
+    shift_ = 64 - bits;
     keys_.assign(size, kEmpty);
     runs_.resize(size);
     for (size_t i = 0; i < n;) {
@@ -92,7 +94,9 @@ class PointGrid {
     return (static_cast<uint64_t>(c[0] & 0x1FFFFF) << 42) | (static_cast<uint64_t>(c[1] & 0x1FFFFF) << 21) |
            static_cast<uint64_t>(c[2] & 0x1FFFFF);
   }
-  size_t hash(uint64_t k) const { return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> 20) & mask_; }
+  // Fibonacci hashing: the product's top bits, which every bit of the key
+  // reaches (its middle bits missed x, so cells in a row along x collided).
+  size_t hash(uint64_t k) const { return static_cast<size_t>((k * 0x9E3779B97F4A7C15ull) >> shift_); }
 
   const std::vector<Vec3>& points_;
   double inv_;
@@ -100,6 +104,7 @@ class PointGrid {
   std::vector<uint64_t> keys_;
   std::vector<std::array<uint32_t, 2>> runs_;
   size_t mask_ = 0;
+  int shift_ = 60;
 };
 
 }  // namespace pfill
