@@ -265,43 +265,43 @@ SurfaceSamples sample_surface(const Boundary& boundary, const SurfaceSamplingOpt
     moved_most = 0;
   };
   auto relax = [&](int rounds) {
-  moved_most = HUGE_VAL;  // particles came and went
-  for (int it = 0; it < rounds; ++it) {
-    const size_t count = out.positions.size();
-    moved.resize(count);
-    if (moved_most > 0.5 * skin) build_lists();
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const Vec3 p = out.positions[i], nrm = out.normals[i];
-        Vec3 f;
-        for (uint32_t k = first[i]; k < first[i + 1]; ++k) {
-          const uint32_t j = listed[k];
-          if (dot(nrm, out.normals[j]) < kSameSide) continue;
-          const Vec3 d = p - out.positions[j];
-          const double l = length(d);
-          if (l >= reach) continue;
-          const double w = (1 - l / reach) * (1 - l / reach);
-          f = f + (l > 1e-12 * s ? d * (w / l) : Vec3(w, 0, 0));
+    moved_most = HUGE_VAL;  // particles came and went
+    for (int it = 0; it < rounds; ++it) {
+      const size_t count = out.positions.size();
+      moved.resize(count);
+      if (moved_most > 0.5 * skin) build_lists();
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          const Vec3 p = out.positions[i], nrm = out.normals[i];
+          Vec3 f;
+          for (uint32_t k = first[i]; k < first[i + 1]; ++k) {
+            const uint32_t j = listed[k];
+            if (dot(nrm, out.normals[j]) < kSameSide) continue;
+            const Vec3 d = p - out.positions[j];
+            const double l = length(d);
+            if (l >= reach) continue;
+            const double w = (1 - l / reach) * (1 - l / reach);
+            f = f + (l > 1e-12 * s ? d * (w / l) : Vec3(w, 0, 0));
+          }
+          f = f - nrm * dot(f, nrm);
+          f = f * (kRelaxStep * s);
+          const double fl = length(f);
+          if (fl > 0.25 * s) f = f * (0.25 * s / fl);
+          moved[i] = p + f;
         }
-        f = f - nrm * dot(f, nrm);
-        f = f * (kRelaxStep * s);
-        const double fl = length(f);
-        if (fl > 0.25 * s) f = f * (0.25 * s / fl);
-        moved[i] = p + f;
-      }
-    });
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 128), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        if (walk && walk->project(moved[i], triangle[i], out.positions[i], out.normals[i])) continue;
-        const std::optional<ClosestPoint> c = boundary.closest_within(moved[i], s);
-        const ClosestPoint cp = c ? *c : boundary.closest(moved[i]);
-        out.positions[i] = cp.point;
-        out.normals[i] = cp.normal;
-        triangle[i] = cp.triangle;
-      }
-    });
-    for (size_t i = 0; i < count; ++i) moved_most = std::max(moved_most, length(out.positions[i] - at_build[i]));
-  }
+      });
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 128), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          if (walk && walk->project(moved[i], triangle[i], out.positions[i], out.normals[i])) continue;
+          const std::optional<ClosestPoint> c = boundary.closest_within(moved[i], s);
+          const ClosestPoint cp = c ? *c : boundary.closest(moved[i]);
+          out.positions[i] = cp.point;
+          out.normals[i] = cp.normal;
+          triangle[i] = cp.triangle;
+        }
+      });
+      for (size_t i = 0; i < count; ++i) moved_most = std::max(moved_most, length(out.positions[i] - at_build[i]));
+    }
   };
   // Three quarters of the rounds, then piles merged and holes filled, and
   // the rest to settle. The last merges can open a hole where the surface is

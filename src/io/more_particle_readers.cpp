@@ -47,7 +47,8 @@ void set_attributes(ParticleAttributes* a, size_t n, const std::vector<double>& 
   if (!a) return;
   *a = {};
   for (double k : kinds) a->kinds.push_back(kind_of(k));
-  for (size_t i = 0; i + 2 < normals.size(); i += 3) a->normals.emplace_back(normals[i], normals[i + 1], normals[i + 2]);
+  for (size_t i = 0; i + 2 < normals.size(); i += 3)
+    a->normals.emplace_back(normals[i], normals[i + 1], normals[i + 2]);
   a->areas = areas;
   if (!normals.empty() && normals.size() != 3 * n) bad(path, "its normals differ in length from its points");
   validate(*a, n, path.string());
@@ -314,7 +315,8 @@ ParticleSet read_xyzr(const fs::path& path, const ParticleReadOptions& options) 
     s.radii.push_back(v[3]);
     if (v.size() > 4) s.ids.push_back(static_cast<uint64_t>(v[4]));
     auto at = [&](int k) {
-      if (static_cast<size_t>(k) >= v.size()) bad(path, "line " + std::to_string(number) + " lacks columns its header names");
+      if (static_cast<size_t>(k) >= v.size())
+        bad(path, "line " + std::to_string(number) + " lacks columns its header names");
       return v[k];
     };
     if (kind >= 0) kinds.push_back(at(kind));
