@@ -219,8 +219,10 @@ SurfaceSamples sample_surface(const Boundary& boundary, const SurfaceSamplingOpt
       bool near = false;
       for (const Vec3& q : added) near = near || length(q - p) <= kHole * o.radius;
       if (near) continue;
-      added.push_back(p);
       const ClosestPoint cp = boundary.closest(p);
+      // A wall inside another part of a union is no surface: nothing to cover.
+      if (cp.distance > 0.25 * o.radius) continue;
+      added.push_back(p);
       out.positions.push_back(cp.point);
       out.normals.push_back(cp.normal);
       triangle.push_back(cp.triangle);
