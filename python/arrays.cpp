@@ -37,6 +37,27 @@ std::vector<Vec3> to_vec3(const DoubleArray& a) {
   return out;
 }
 
+ParticleSet particles_from(const py::handle& positions, const py::handle& radii) {
+  ParticleSet ps;
+  ps.positions = to_vec3(rows_of_three(positions, "positions"));
+  DoubleArray r;
+  try {
+    r = DoubleArray::ensure(radii);
+  } catch (const py::error_already_set&) {
+  }
+  if (!r || r.ndim() > 1) throw Error("radii: give one radius, or an array of one per particle");
+  if (r.ndim() == 0) {
+    ps.radii.assign(ps.positions.size(), *r.data());
+  } else {
+    if (static_cast<size_t>(r.shape(0)) != ps.positions.size())
+      throw Error("radii: " + std::to_string(r.shape(0)) + " radii for " + std::to_string(ps.positions.size()) +
+                  " positions; give one per particle");
+    ps.radii.assign(r.data(), r.data() + r.shape(0));
+  }
+  validate(ps, "particles");
+  return ps;
+}
+
 /// JSON from the library (fill_report.hpp) as Python dicts and lists.
 py::object to_python(const nlohmann::ordered_json& j) {
   return py::module_::import("json").attr("loads")(j.dump());

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "pfill/particles.hpp"
 #include "pfill/vec3.hpp"
 
 namespace pfill::python {
@@ -25,6 +26,10 @@ py::array_t<double> vec3_array(const std::vector<Vec3>& points);
 DoubleArray rows_of_three(const py::handle& object, const std::string& what);
 
 std::vector<Vec3> to_vec3(const DoubleArray& rows);
+
+/// Spheres from `positions` (N, 3) and `radii` (one number, or N of them),
+/// validated; else an error naming the argument (pfill.check, pfill.contacts).
+ParticleSet particles_from(const py::handle& positions, const py::handle& radii);
 
 /// JSON from the library (fill_report.hpp) as Python dicts and lists.
 py::object to_python(const nlohmann::ordered_json& json);

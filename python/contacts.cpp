@@ -16,27 +16,6 @@
 namespace pfill::python {
 namespace {
 
-ParticleSet particles_of(const py::object& positions, const py::object& radii) {
-  ParticleSet ps;
-  ps.positions = to_vec3(rows_of_three(positions, "positions"));
-  DoubleArray r;
-  try {
-    r = DoubleArray::ensure(radii);
-  } catch (const py::error_already_set&) {
-  }
-  if (!r || r.ndim() > 1) throw Error("radii: give one radius, or an array of one per particle");
-  if (r.ndim() == 0) {
-    ps.radii.assign(ps.positions.size(), *r.data());
-  } else {
-    if (static_cast<size_t>(r.shape(0)) != ps.positions.size())
-      throw Error("radii: " + std::to_string(r.shape(0)) + " radii for " + std::to_string(ps.positions.size()) +
-                  " positions; give one per particle");
-    ps.radii.assign(r.data(), r.data() + r.shape(0));
-  }
-  validate(ps, "particles");
-  return ps;
-}
-
 py::array_t<int64_t> pairs_array(const ContactNetwork& net) {
   py::array_t<int64_t> pairs({static_cast<py::ssize_t>(net.pairs.size()), py::ssize_t(2)});
   auto v = pairs.mutable_unchecked<2>();
@@ -52,7 +31,7 @@ py::array_t<int64_t> coordination_array(const ContactNetwork& net) {
 }
 
 py::dict contacts(const py::object& positions, const py::object& radii, double gap, const py::object& mesh_arg) {
-  const ParticleSet ps = particles_of(positions, radii);
+  const ParticleSet ps = particles_from(positions, radii);
   ContactNetwork net;
   nlohmann::ordered_json report;
   {
@@ -96,7 +75,7 @@ py::dict contacts(const py::object& positions, const py::object& radii, double g
 }  // namespace
 
 py::tuple contact_pairs(const py::object& positions, const py::object& radii, double gap) {
-  const ParticleSet ps = particles_of(positions, radii);
+  const ParticleSet ps = particles_from(positions, radii);
   ContactNetwork net;
   {
     py::gil_scoped_release release;

@@ -18,4 +18,7 @@ void add_contacts_bindings(py::module_& m);
 /// Adds pfill.surface() (python/surface.cpp).
 void add_surface_bindings(py::module_& m);
 
+/// Adds pfill.read_particles() (python/particle_files.cpp).
+void add_particle_file_bindings(py::module_& m);
+
 }  // namespace pfill::python

@@ -128,23 +128,7 @@ PyFillResult run_fill(const py::object& mesh_arg, const py::kwargs& keywords) {
 
 py::object check(const py::object& positions, const py::object& radii, const py::object& mesh_arg,
                  double tolerance) {
-  ParticleSet ps;
-  ps.positions = to_vec3(rows_of_three(positions, "positions"));
-  DoubleArray r;
-  try {
-    r = DoubleArray::ensure(radii);
-  } catch (const py::error_already_set&) {
-  }
-  if (!r || r.ndim() > 1) throw Error("radii: give one radius, or an array of one per particle");
-  if (r.ndim() == 0) {
-    ps.radii.assign(ps.positions.size(), *r.data());
-  } else {
-    if (static_cast<size_t>(r.shape(0)) != ps.positions.size())
-      throw Error("radii: " + std::to_string(r.shape(0)) + " radii for " + std::to_string(ps.positions.size()) +
-                  " positions; give one per particle");
-    ps.radii.assign(r.data(), r.data() + r.shape(0));
-  }
-  validate(ps, "particles");
+  ParticleSet ps = particles_from(positions, radii);
   if (!(tolerance >= 0 && tolerance <= 1)) throw Error("tolerance must be a number in 0..1 (a fraction of r)");
   Mesh mesh = mesh_from(mesh_arg);
   // About the mesh's centre, as fill() works (the ray tracer is single precision).
@@ -269,5 +253,6 @@ PYBIND11_MODULE(_pfill, m) {
         "default); choose one with fill(..., device=index or name) or PFILL_DEVICE.");
   add_contacts_bindings(m);
   add_surface_bindings(m);
+  add_particle_file_bindings(m);
   m.def("builtin_shapes", &builtin_shape_names, "Names of the built-in shapes fill() and load_mesh() accept.");
 }

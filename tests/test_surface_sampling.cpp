@@ -3,15 +3,21 @@
 // on a known layout.
 #include <doctest/doctest.h>
 
+#include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <numeric>
+#include <random>
 
+#include "boundary/surface_walk.hpp"
 #include "pfill/boundary.hpp"
+#include "pfill/mesh_io.hpp"
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/shapes.hpp"
 #include "pfill/shell_fill.hpp"
 #include "pfill/surface_sampling.hpp"
+#include "skip.hpp"
 
 using namespace pfill;
 
@@ -51,6 +57,69 @@ TEST_CASE("surface sampling: an even layer at spacing 2R that covers the surface
   check_shell(make_icosphere(1.0, 3), 800);
   check_shell(make_cube(1.0, 2), 1200);  // sharp edges and corners
   check_shell(make_torus(), 1000);
+}
+
+TEST_CASE("surface sampling on spot at 5,000: issue 30's figures (the time is printed, not checked)") {
+  const std::filesystem::path path = std::filesystem::path(PFILL_SHARED_MESHES) / "spot.obj";
+  if (!std::filesystem::exists(path)) {
+    PFILL_SKIP("spot.obj (../shared/meshes) is absent");
+  }
+  const Mesh mesh = load_mesh(path.string());
+  for (uint64_t seed : {1, 2, 3}) {
+    const auto start = std::chrono::steady_clock::now();
+    const Boundary boundary(mesh);
+    const auto built = std::chrono::steady_clock::now();
+    SurfaceSamplingOptions o;
+    o.radius = surface_radius_for_count(diagnose(mesh).surface_area, 5000);
+    o.seed = seed;
+    const SurfaceSamples s = sample_surface(boundary, o);
+    const auto done = std::chrono::steady_clock::now();
+    const ShellStats st = measure_shell(boundary, s.positions, o.radius);
+    MESSAGE("spot seed " << seed << ": " << s.positions.size() << " particles, boundary "
+                         << std::chrono::duration<double>(built - start).count() << " s, sampling "
+                         << std::chrono::duration<double>(done - built).count() << " s; " << 100 * st.share_within_15
+                         << "% within 15%, closest " << st.nn_min / (2 * o.radius) << " x 2R, coverage "
+                         << st.coverage_over_r << " R");
+    CHECK(s.positions.size() == doctest::Approx(5000).epsilon(0.02));
+    CHECK(st.share_within_15 >= 0.95);
+    CHECK(st.closer_than_08 == 0);
+    CHECK(st.coverage_over_r <= 1.5);
+  }
+}
+
+TEST_CASE("surface walk: the closest point near a known triangle (Boundary's, on smooth surfaces)") {
+  for (const Mesh& mesh : {make_icosphere(1.0, 3), make_cube(1.0, 2), make_torus()}) {
+    CAPTURE(mesh.source);
+    const Boundary boundary(mesh);
+    const SurfaceWalk walk(mesh, boundary.inward_oriented() ? -1.0 : 1.0);
+    std::mt19937_64 rng(7);
+    std::uniform_real_distribution<double> unit(-1.0, 1.0);
+    for (int k = 0; k < 300; ++k) {
+      // A surface point moved as the relaxation moves it: along its tangent
+      // plane (up to 0.1, a quarter of the spacing of 1,000 particles), and a
+      // little off the surface.
+      const ClosestPoint from = boundary.closest(Vec3(unit(rng), unit(rng), unit(rng)) * 2.0);
+      Vec3 along = Vec3(unit(rng), unit(rng), unit(rng)) * 0.06;
+      along = along - from.normal * dot(along, from.normal);
+      const Vec3 p = from.point + along + from.normal * (0.002 * unit(rng));
+      uint32_t t = from.triangle;
+      Vec3 point, normal;
+      REQUIRE(walk.project(p, t, point, normal));
+      const ClosestPoint want = boundary.closest(p);
+      CHECK(boundary.closest(point).distance < 1e-9);  // on the surface
+      CHECK(length(normal) == doctest::Approx(1));
+      if (mesh.source == "cube") {
+        // Moved along an edge's tangent plane into a corner, p projects
+        // inside its own face while another face is a little closer: a point
+        // on the surface all the same, as the sampler needs, and no farther
+        // than the point it moved from.
+        CHECK(length(p - point) <= length(p - from.point) + 1e-12);
+      } else {
+        CHECK(length(point - want.point) < 1e-9);
+        CHECK(dot(normal, want.normal) > 0.5);
+      }
+    }
+  }
 }
 
 TEST_CASE("surface sampling: the same seed gives the same particles, a bad radius is refused") {

@@ -26,6 +26,9 @@ struct ParticleAttributes {
   bool has_areas() const { return !areas.empty(); }
 };
 
+/// A kind as a file gives it (a number): 0 or 1, else 255 (validate() refuses it).
+inline uint8_t kind_of(double value) { return value == 0 ? 0 : value == 1 ? 1 : 255; }
+
 /// "inner" or "boundary".
 inline const char* kind_name(uint8_t kind) { return kind == 1 ? "boundary" : "inner"; }
 

@@ -117,6 +117,11 @@ struct ParticleReadOptions {
   /// Radius of every particle when the file has none; 0 means "the file must
   /// have radii" (an error otherwise).
   double default_radius = 0.0;
+  /// Where given, set to the boundary particles' attributes the file holds
+  /// (`kind`, nx ny nz, `area`: as the writers name them in each format;
+  /// vectors the file lacks stay empty). PLY, CSV, VTP, GLB and .xyzr carry
+  /// them; LAMMPS data gives none.
+  ParticleAttributes* attributes = nullptr;
 };
 
 /// Reads any particle file pfill writes (by extension: .ply .glb .csv .vtp

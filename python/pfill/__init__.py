@@ -24,6 +24,7 @@ from ._pfill import (  # noqa: F401
     contacts,
     devices,
     load_mesh,
+    read_particles,
     surface,
 )
 
@@ -59,4 +60,4 @@ def _one_line_type_errors(function):
 fill = _one_line_type_errors(_pfill.fill)
 check = _one_line_type_errors(_pfill.check)
 
-__all__ = ["fill", "check", "contacts", "surface", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]
+__all__ = ["fill", "check", "contacts", "surface", "read_particles", "load_mesh", "devices", "builtin_shapes", "FillResult", "Error", "Cancelled"]

@@ -96,3 +96,26 @@ def test_fill_shell_output_reads_back_with_the_kinds_apart(tmp_path):
     d = np.sqrt(((p_in[:, None] - p_sh[None]) ** 2).sum(-1))
     assert (d >= (inner["radius"][:, None] + shell["radius"][None]) - 0.001 * inner["radius"][:, None] - 1e-9).all()
     assert (np.abs(p_in).max(axis=1) + inner["radius"] <= 1 + 1e-9).all()
+
+
+@pytest.mark.parametrize("ext", ["ply", "csv", "vtp", "glb", "xyzr"])
+def test_read_particles_gives_a_shells_kinds_apart(tmp_path, ext):
+    path = tmp_path / f"f.{ext}"
+    subprocess.run([CLI, "fill", "cube", "-n", "150", "-q", "--shell", "-o", str(path)], check=True,
+                   stdout=subprocess.DEVNULL)
+    table = np.genfromtxt(tmp_path / "f.csv", delimiter=",", names=True) if ext == "csv" else None
+    p = pfill.read_particles(str(path))
+    kinds = p["kinds"]
+    assert kinds is not None and kinds.dtype == np.uint8 and len(kinds) == len(p["positions"])
+    inner, shell = kinds == 0, kinds == 1
+    assert inner.sum() > 50 and shell.sum() > 50 and (inner | shell).all()
+    assert (p["areas"][inner] == 0).all() and (p["areas"][shell] > 0).all()
+    assert np.allclose(np.linalg.norm(p["normals"][shell], axis=1), 1, atol=1e-5)
+    if table is not None:
+        assert (kinds == table["kind"]).all()
+    # A file without a shell: no kinds.
+    subprocess.run([CLI, "fill", "cube", "-n", "50", "-q", "-o", str(tmp_path / f"g.{ext}")], check=True,
+                   stdout=subprocess.DEVNULL)
+    plain = pfill.read_particles(str(tmp_path / f"g.{ext}"))
+    assert plain["kinds"] is None and plain["normals"] is None and plain["areas"] is None
+    assert len(plain["radii"]) == len(plain["positions"])

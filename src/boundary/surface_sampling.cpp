@@ -6,74 +6,21 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <queue>
+#include <optional>
 #include <random>
 #include <string>
-#include <unordered_map>
+#include <tuple>
 
 #include <tbb/blocked_range.h>
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 
+#include "boundary/point_grid.hpp"
+#include "boundary/surface_walk.hpp"
 #include "pfill/error.hpp"
 
 namespace pfill {
 namespace {
-
-// Points in a hash of cubic cells.
-class PointGrid {
- public:
-  PointGrid(const std::vector<Vec3>& points, double cell) : points_(points), inv_(1.0 / cell) {
-    cells_.reserve(points.size());
-    for (size_t i = 0; i < points.size(); ++i) cells_[key(cell_of(points[i]))].push_back(static_cast<uint32_t>(i));
-  }
-
-  // f(j) for the points in the cells within `ring` cells of p's.
-  template <class F>
-  void for_near(const Vec3& p, int ring, F&& f) const {
-    const auto c = cell_of(p);
-    for (int64_t dz = -ring; dz <= ring; ++dz)
-      for (int64_t dy = -ring; dy <= ring; ++dy)
-        for (int64_t dx = -ring; dx <= ring; ++dx) {
-          auto it = cells_.find(key({c[0] + dx, c[1] + dy, c[2] + dz}));
-          if (it == cells_.end()) continue;
-          for (uint32_t j : it->second) f(j);
-        }
-  }
-
-  // The nearest point to p other than `skip` (distance, index); infinity when there is none.
-  std::pair<double, uint32_t> nearest(const Vec3& p, uint32_t skip = UINT32_MAX) const {
-    double best = std::numeric_limits<double>::infinity();
-    uint32_t at = UINT32_MAX;
-    for (int ring = 1; ring <= 3; ++ring) {
-      for_near(p, ring, [&](uint32_t j) {
-        if (j == skip) return;
-        const double d = length(points_[j] - p);
-        if (d < best) best = d, at = j;
-      });
-      if (best <= ring / inv_) return {best, at};  // nothing farther out can be nearer
-    }
-    for (uint32_t j = 0; j < points_.size(); ++j) {  // sparse: all of them
-      if (j == skip) continue;
-      const double d = length(points_[j] - p);
-      if (d < best) best = d, at = j;
-    }
-    return {best, at};
-  }
-
- private:
-  std::array<int64_t, 3> cell_of(const Vec3& p) const {
-    return {static_cast<int64_t>(std::floor(p.x * inv_)), static_cast<int64_t>(std::floor(p.y * inv_)),
-            static_cast<int64_t>(std::floor(p.z * inv_))};
-  }
-  static uint64_t key(const std::array<int64_t, 3>& c) {
-    return (static_cast<uint64_t>(c[0] & 0x1FFFFF) << 42) | (static_cast<uint64_t>(c[1] & 0x1FFFFF) << 21) |
-           static_cast<uint64_t>(c[2] & 0x1FFFFF);
-  }
-  const std::vector<Vec3>& points_;
-  double inv_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells_;
-};
 
 double triangle_area(const Mesh& m, const Triangle& t) {
   return 0.5 * length(cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
@@ -129,6 +76,7 @@ SurfaceSamples sample_surface(const Boundary& boundary, const SurfaceSamplingOpt
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   const size_t m = n * static_cast<size_t>(std::max(2, o.candidates_per_particle));
   std::vector<Vec3> cand(m), cand_normal(m);
+  std::vector<uint32_t> cand_triangle(m);
   const double orient = boundary.inward_oriented() ? -1.0 : 1.0;
   for (size_t k = 0; k < m; ++k) {
     const size_t t = std::min<size_t>(
@@ -139,9 +87,11 @@ SurfaceSamples sample_surface(const Boundary& boundary, const SurfaceSamplingOpt
     const Vec3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]], c = mesh.positions[tri[2]];
     cand[k] = a + (b - a) * u + (c - a) * v;
     cand_normal[k] = normalize(cross(b - a, c - a)) * orient;
+    cand_triangle[k] = static_cast<uint32_t>(t);
   }
 
   // Sample elimination (Yuksel 2015) down to n.
+  std::vector<uint32_t> triangle;  // each particle's, where the relaxation's walk starts
   {
     const double r_max = std::sqrt(area / (2 * std::sqrt(3.0) * static_cast<double>(n)));
     const double reach = 2 * r_max;
@@ -154,30 +104,51 @@ SurfaceSamples sample_surface(const Boundary& boundary, const SurfaceSamplingOpt
           if (j == i || dot(cand_normal[i], cand_normal[j]) < kSameSide) return;
           const double d = length(cand[j] - cand[i]);
           if (d >= reach) return;
-          const float w = static_cast<float>(std::pow(1 - d / reach, 8));
+          const double w2 = (1 - d / reach) * (1 - d / reach), w4 = w2 * w2;
+          const float w = static_cast<float>(w4 * w4);  // (1 - d / reach)^8
           near[i].push_back({j, w});
           weight[i] += w;
         });
       }
     });
+    // A max-heap of the candidates by (weight, index) with each one's place
+    // in it: a neighbour's weight only falls, so it sifts down in place (a
+    // queue of stale copies grew to 20 entries per candidate).
     std::vector<uint8_t> alive(m, 1);
-    std::priority_queue<std::pair<double, uint32_t>> heap;
-    for (size_t i = 0; i < m; ++i) heap.push({weight[i], static_cast<uint32_t>(i)});
-    size_t left = m;
-    while (left > n && !heap.empty()) {
-      const auto [w, i] = heap.top();
-      heap.pop();
-      if (!alive[i] || w != weight[i]) continue;  // stale
+    std::vector<uint32_t> heap(m), place(m);
+    auto above = [&](uint32_t a, uint32_t b) { return weight[a] > weight[b] || (weight[a] == weight[b] && a > b); };
+    auto sift_down = [&](size_t at) {
+      const uint32_t item = heap[at];
+      for (;;) {
+        size_t child = 2 * at + 1;
+        if (child >= heap.size()) break;
+        if (child + 1 < heap.size() && above(heap[child + 1], heap[child])) ++child;
+        if (!above(heap[child], item)) break;
+        heap[at] = heap[child], place[heap[at]] = static_cast<uint32_t>(at);
+        at = child;
+      }
+      heap[at] = item, place[item] = static_cast<uint32_t>(at);
+    };
+    for (size_t i = 0; i < m; ++i) heap[i] = static_cast<uint32_t>(i);
+    for (size_t at = m / 2; at-- > 0;) sift_down(at);
+    for (size_t left = m; left > n; --left) {
+      const uint32_t i = heap[0];
       alive[i] = 0;
-      --left;
+      heap[0] = heap.back();
+      heap.pop_back();
+      if (!heap.empty()) sift_down(0);
       for (const auto& [j, wj] : near[i]) {
         if (!alive[j]) continue;
         weight[j] -= wj;
-        heap.push({weight[j], j});
+        sift_down(place[j]);
       }
     }
     for (size_t i = 0; i < m; ++i)
-      if (alive[i]) out.positions.push_back(cand[i]), out.normals.push_back(cand_normal[i]);
+      if (alive[i]) {
+        out.positions.push_back(cand[i]);
+        out.normals.push_back(cand_normal[i]);
+        triangle.push_back(cand_triangle[i]);
+      }
   }
 
   // Where the surface is sharper than the spacing (the tip of a horn), the
@@ -200,85 +171,157 @@ SurfaceSamples sample_surface(const Boundary& boundary, const SurfaceSamplingOpt
         const uint32_t loser = crowd[j] > crowd[i] || (crowd[j] == crowd[i] && j > i) ? j : static_cast<uint32_t>(i);
         const uint32_t keeper = loser == j ? static_cast<uint32_t>(i) : j;
         const ClosestPoint cp = boundary.closest((out.positions[i] + out.positions[j]) * 0.5);
-        out.positions[keeper] = cp.point, out.normals[keeper] = cp.normal;
+        out.positions[keeper] = cp.point, out.normals[keeper] = cp.normal, triangle[keeper] = cp.triangle;
         gone[loser] = 1;
       });
     }
     size_t kept = 0;
     for (size_t i = 0; i < count; ++i)
-      if (!gone[i]) out.positions[kept] = out.positions[i], out.normals[kept] = out.normals[i], ++kept;
+      if (!gone[i]) {
+        out.positions[kept] = out.positions[i], out.normals[kept] = out.normals[i], triangle[kept] = triangle[i];
+        ++kept;
+      }
     out.positions.resize(kept);
     out.normals.resize(kept);
+    triangle.resize(kept);
+    return count - kept;
   };
   // A particle where a surface point is farther than kHole R from all of
   // them (a scan at spacing R/2 over every triangle), the farthest first.
   auto fill_holes = [&] {
     const PointGrid grid(out.positions, s);
-    std::vector<std::pair<double, Vec3>> holes;
     const double step = 0.5 * o.radius;
-    for (const Triangle& tri : mesh.triangles) {
-      const Vec3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]], c = mesh.positions[tri[2]];
-      const double longest = std::max({length(b - a), length(c - b), length(a - c)});
-      const int k = std::clamp(static_cast<int>(std::ceil(longest / step)), 1, 2000);
-      for (int i = 0; i <= k; ++i)
-        for (int j = 0; i + j <= k; ++j) {
-          const Vec3 p = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
-          const double d = grid.nearest(p).first;
-          if (d > kHole * o.radius) holes.push_back({d, p});
-        }
-    }
-    std::sort(holes.begin(), holes.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
+    tbb::enumerable_thread_specific<std::vector<std::pair<double, Vec3>>> found;
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, triangles, 64), [&](const tbb::blocked_range<size_t>& r) {
+      auto& local = found.local();
+      for (size_t t = r.begin(); t != r.end(); ++t) {
+        const Triangle& tri = mesh.triangles[t];
+        const Vec3 a = mesh.positions[tri[0]], b = mesh.positions[tri[1]], c = mesh.positions[tri[2]];
+        const double longest = std::max({length(b - a), length(c - b), length(a - c)});
+        const int k = std::clamp(static_cast<int>(std::ceil(longest / step)), 1, 2000);
+        for (int i = 0; i <= k; ++i)
+          for (int j = 0; i + j <= k; ++j) {
+            const Vec3 p = a + (b - a) * (double(i) / k) + (c - a) * (double(j) / k);
+            const double d = grid.nearest(p).first;
+            if (d > kHole * o.radius) local.push_back({d, p});
+          }
+      }
+    });
+    std::vector<std::pair<double, Vec3>> holes;
+    for (const auto& local : found) holes.insert(holes.end(), local.begin(), local.end());
+    // The farthest first; ties by position, so the threads' order does not matter.
+    std::sort(holes.begin(), holes.end(), [](const auto& x, const auto& y) {
+      if (x.first != y.first) return x.first > y.first;
+      return std::tie(x.second.x, x.second.y, x.second.z) < std::tie(y.second.x, y.second.y, y.second.z);
+    });
     std::vector<Vec3> added;
     for (const auto& [d, p] : holes) {
       bool near = false;
       for (const Vec3& q : added) near = near || length(q - p) <= kHole * o.radius;
       if (near) continue;
-      added.push_back(p);
       const ClosestPoint cp = boundary.closest(p);
+      // A wall inside another part of a union is no surface: nothing to cover.
+      if (cp.distance > 0.25 * o.radius) continue;
+      added.push_back(p);
       out.positions.push_back(cp.point);
       out.normals.push_back(cp.normal);
+      triangle.push_back(cp.triangle);
     }
+    return added.size();
   };
   // Tangential relaxation: springs to the spacing s, moves in the tangent plane, projection back.
   std::vector<Vec3> moved;
   const double reach = kRelaxReach * s;
-  for (int it = 0; it < o.relax_iterations; ++it) {
-    if (it == o.relax_iterations * 3 / 4) {  // the rounds left settle the changes
-      thin_out();
-      fill_holes();
-    }
+  // Where the parts of a union overlap, the closest point must skip the
+  // surfaces inside other parts: Boundary's search knows them, a walk does not.
+  std::optional<SurfaceWalk> walk;
+  if (!boundary.union_of_parts()) walk.emplace(mesh, orient);
+  // Neighbour lists out to reach + skin, rebuilt once some particle has
+  // moved skin / 2 since (two of them closing in then still find each other):
+  // most rounds then read a short list instead of probing 27 cells.
+  const double skin = 0.3 * s;
+  std::vector<uint32_t> first, listed;
+  std::vector<Vec3> at_build;
+  double moved_most = HUGE_VAL;
+  auto build_lists = [&] {
     const size_t count = out.positions.size();
-    moved.resize(count);
-    const PointGrid grid(out.positions, reach);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const Vec3 p = out.positions[i], nrm = out.normals[i];
-        Vec3 f;
-        grid.for_near(p, 1, [&](uint32_t j) {
-          if (j == i || dot(nrm, out.normals[j]) < kSameSide) return;
-          const Vec3 d = p - out.positions[j];
-          const double l = length(d);
-          if (l >= reach) return;
-          const double w = (1 - l / reach) * (1 - l / reach);
-          f = f + (l > 1e-12 * s ? d * (w / l) : Vec3(w, 0, 0));
-        });
-        f = f - nrm * dot(f, nrm);
-        f = f * (kRelaxStep * s);
-        const double fl = length(f);
-        if (fl > 0.25 * s) f = f * (0.25 * s / fl);
-        moved[i] = p + f;
+    const PointGrid grid(out.positions, reach + skin);
+    first.assign(count + 1, 0);
+    auto each = [&](size_t i, auto&& f) {
+      grid.for_near(out.positions[i], 1, [&](uint32_t j) {
+        if (j != i && length(out.positions[j] - out.positions[i]) < reach + skin) f(j);
+      });
+    };
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) each(i, [&](uint32_t) { ++first[i + 1]; });
+    });
+    for (size_t i = 0; i < count; ++i) first[i + 1] += first[i];
+    listed.resize(first[count]);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) {
+        uint32_t k = first[i];
+        each(i, [&](uint32_t j) { listed[k++] = j; });
       }
     });
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 128), [&](const tbb::blocked_range<size_t>& range) {
-      for (size_t i = range.begin(); i != range.end(); ++i) {
-        const std::optional<ClosestPoint> c = boundary.closest_within(moved[i], s);
-        const ClosestPoint cp = c ? *c : boundary.closest(moved[i]);
-        out.positions[i] = cp.point;
-        out.normals[i] = cp.normal;
-      }
-    });
+    at_build = out.positions;
+    moved_most = 0;
+  };
+  auto relax = [&](int rounds) {
+    moved_most = HUGE_VAL;  // particles came and went
+    for (int it = 0; it < rounds; ++it) {
+      const size_t count = out.positions.size();
+      moved.resize(count);
+      if (moved_most > 0.5 * skin) build_lists();
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 256), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          const Vec3 p = out.positions[i], nrm = out.normals[i];
+          Vec3 f;
+          for (uint32_t k = first[i]; k < first[i + 1]; ++k) {
+            const uint32_t j = listed[k];
+            if (dot(nrm, out.normals[j]) < kSameSide) continue;
+            const Vec3 d = p - out.positions[j];
+            const double l = length(d);
+            if (l >= reach) continue;
+            const double w = (1 - l / reach) * (1 - l / reach);
+            f = f + (l > 1e-12 * s ? d * (w / l) : Vec3(w, 0, 0));
+          }
+          f = f - nrm * dot(f, nrm);
+          f = f * (kRelaxStep * s);
+          const double fl = length(f);
+          if (fl > 0.25 * s) f = f * (0.25 * s / fl);
+          moved[i] = p + f;
+        }
+      });
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 128), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          if (walk && walk->project(moved[i], triangle[i], out.positions[i], out.normals[i])) continue;
+          const std::optional<ClosestPoint> c = boundary.closest_within(moved[i], s);
+          const ClosestPoint cp = c ? *c : boundary.closest(moved[i]);
+          out.positions[i] = cp.point;
+          out.normals[i] = cp.normal;
+          triangle[i] = cp.triangle;
+        }
+      });
+      for (size_t i = 0; i < count; ++i) moved_most = std::max(moved_most, length(out.positions[i] - at_build[i]));
+    }
+  };
+  // Three quarters of the rounds, then piles merged and holes filled, and
+  // the rest to settle. The last merges can open a hole where the surface is
+  // sharp (spot's muzzle: 1.56 R): while a check changes something, it is
+  // filled and settled again (a tenth of the rounds, at most three times).
+  const int settle = std::max(1, o.relax_iterations / 10);
+  relax(o.relax_iterations * 3 / 4);
+  if (o.relax_iterations > 0) {
+    thin_out();
+    fill_holes();
+    relax(o.relax_iterations - o.relax_iterations * 3 / 4);
   }
-  thin_out();
+  for (int pass = 0;; ++pass) {
+    const size_t merged = thin_out();
+    if (o.relax_iterations == 0 || pass == 3) break;
+    if (merged + fill_holes() == 0) break;
+    relax(settle);
+  }
   // The areas: each particle's share of the surface (its Voronoi cell on it).
   out.areas = measure_shell(boundary, out.positions, o.radius, 2).areas;
   return out;

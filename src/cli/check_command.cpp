@@ -48,8 +48,9 @@ void add_check_command(CLI::App& app) {
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
   cmd->add_flag("--shell", a->shell,
-                "Also the figures of the boundary particles (`pfill surface`, `fill --shell`: those whose centre "
-                "lies within half their radius of the surface): nearest-neighbour spacing and coverage");
+                "Also the figures of the boundary particles (`pfill surface`, `fill --shell`: those of kind 1 where "
+                "the file has a kind, else those whose centre lies within half their radius of the surface): "
+                "nearest-neighbour spacing and coverage");
   cmd->add_option("--radii", a->radii,
                   "A size distribution (as `fill --radii`) to compare the file's radii with, scaled to their mean "
                   "(so a SPEC of relative radii compares too): shares per class, KS distance");
@@ -66,10 +67,17 @@ void add_check_command(CLI::App& app) {
   cmd->callback([a]() {
     ParticleReadOptions ro;
     ro.default_radius = a->radius;
+    ParticleAttributes attributes;  // kinds (fill --shell) tell the shell apart
+    ro.attributes = &attributes;
     ParticleSet particles = read_particles(a->particles, ro);
     Mesh mesh = load_mesh_argument(a->mesh);
     // Measured about the mesh's centre, as the fill works: far from the
     // origin (1e9) the ray tracer's single precision would lose the surface.
+    struct {
+      Mesh mesh;
+      ParticleSet particles;
+    } in_place;  // for --shell: (p - c) + c is not always p
+    if (a->shell) in_place = {mesh, particles};
     const Vec3 centre = mesh.bounds().centre();
     for (Vec3& p : mesh.positions) p -= centre;
     for (Vec3& p : particles.positions) p -= centre;
@@ -78,7 +86,12 @@ void add_check_command(CLI::App& app) {
     mo.containment_tolerance = a->tolerance;
     const PackingMetrics m = measure_packing(boundary, diagnose(mesh).volume(), particles, mo);
     std::optional<ShellStats> shell;
-    if (a->shell) shell = measure_shell_of(boundary, particles);
+    if (a->shell) {
+      // Where the particles are, as `fill --shell` and `pfill surface`
+      // measure them: the same file then gives the same figures (and the
+      // least covered point is the file's).
+      shell = measure_shell_of(Boundary(in_place.mesh), in_place.particles, &attributes);
+    }
     std::optional<RadiusDistribution> sizes;
     std::optional<DistributionFit> fit;
     if (!a->radii.empty()) {

@@ -110,7 +110,7 @@ void add_contacts_command(CLI::App& app) {
   a->contacts.contacts = true;
   CLI::App* cmd = app.add_subcommand(
       "contacts", "The contact network of a particle file: touching pairs (and with a mesh the spheres at its surface)");
-  cmd->add_option("particles", a->particles, "Particle file (.ply, .csv)")->required();
+  cmd->add_option("particles", a->particles, "Particle file (.ply .glb .csv .vtp .data .xyzr)")->required();
   cmd->add_option("mesh", a->mesh, "Mesh file or built-in shape: adds the spheres touching its surface");
   cmd->add_option("-o,--output", a->output,
                   "The particles with their contacts: .ply (edge elements), .vtp (lines), .data (LAMMPS bonds), "
@@ -127,6 +127,8 @@ void add_contacts_command(CLI::App& app) {
     if (!a->output.empty()) particle_format_from_path(a->output);
     ParticleReadOptions ro;
     ro.default_radius = a->radius;
+    ParticleAttributes attributes;  // a shell's kinds, normals and areas go on into -o
+    ro.attributes = &attributes;
     const ParticleSet particles = read_particles(a->particles, ro);
     std::unique_ptr<Boundary> boundary;
     Mesh mesh;
@@ -138,6 +140,7 @@ void add_contacts_command(CLI::App& app) {
     if (!a->output.empty()) {
       ParticleWriteOptions wo;
       wo.contacts = r.network.get();
+      wo.attributes = &attributes;
       if (boundary) wo.box = mesh.bounds();
       write_particles(particles, a->output, wo);
     }

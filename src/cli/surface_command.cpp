@@ -2,6 +2,7 @@
 // surface at spacing 2R (include/pfill/surface_sampling.hpp), each with its
 // outward normal and area, and the shell's figures. Also the shell's JSON
 // that `pfill check --shell` and `pfill fill --shell` print.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -47,16 +48,25 @@ void print_shell(std::FILE* out, const ShellStats& s) {
                s.coverage_over_r, thousands(s.surface_points).c_str());
 }
 
-ShellStats measure_shell_of(const Boundary& boundary, const ParticleSet& particles) {
+ShellStats measure_shell_of(const Boundary& boundary, const ParticleSet& particles,
+                            const ParticleAttributes* attributes) {
+  const bool kinds = attributes && attributes->has_kinds();
   std::vector<Vec3> on_surface;
-  double radius = 0;
+  double radius = 0, smallest = HUGE_VAL, largest = 0;
   for (size_t i = 0; i < particles.size(); ++i)
-    if (boundary.closest(particles.positions[i]).distance <= 0.5 * particles.radii[i]) {
+    if (kinds ? attributes->kinds[i] == static_cast<uint8_t>(ParticleKind::Boundary)
+              : boundary.closest(particles.positions[i]).distance <= 0.5 * particles.radii[i]) {
       on_surface.push_back(particles.positions[i]);
       radius += particles.radii[i];
+      smallest = std::min(smallest, particles.radii[i]);
+      largest = std::max(largest, particles.radii[i]);
     }
-  if (on_surface.empty()) throw Error("--shell: no particle lies on the surface (within half its radius)");
-  return measure_shell(boundary, on_surface, radius / on_surface.size());
+  if (on_surface.empty())
+    throw Error(kinds ? "--shell: the file marks no particle as boundary (kind 1)"
+                      : "--shell: no particle lies on the surface (within half its radius)");
+  // One radius (a shell's): that radius itself, so the figures equal those
+  // `fill --shell` and `pfill surface` print (a mean differs in the last bits).
+  return measure_shell(boundary, on_surface, smallest == largest ? smallest : radius / on_surface.size());
 }
 
 double surface_radius_for_count(const Mesh& mesh, size_t count) {
@@ -98,8 +108,13 @@ void add_surface_command(CLI::App& app) {
     a->options.radius = a->radius > 0 ? a->radius : surface_radius_for_count(mesh, a->count);
     const auto start = std::chrono::steady_clock::now();
     const Boundary boundary(mesh);
+    const auto built = std::chrono::steady_clock::now();
     const SurfaceSamples samples = sample_surface(boundary, a->options);
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const auto done = std::chrono::steady_clock::now();
+    // The boundary (Embree scene, inside/outside) apart: a fill builds it too, with its field.
+    const double boundary_seconds = std::chrono::duration<double>(built - start).count();
+    const double sampling_seconds = std::chrono::duration<double>(done - built).count();
+    const double seconds = boundary_seconds + sampling_seconds;
     ParticleSet particles;
     particles.positions = samples.positions;
     particles.radii.assign(samples.positions.size(), samples.radius);
@@ -112,7 +127,8 @@ void add_surface_command(CLI::App& app) {
     write_particles(particles, a->output, wo);
     const ShellStats stats = measure_shell(boundary, samples.positions, samples.radius);
     nlohmann::ordered_json j{{"mesh", mesh.source}, {"output", a->output}, {"radius", samples.radius},
-                             {"surface_area", samples.surface_area}, {"seconds", seconds}};
+                             {"surface_area", samples.surface_area}, {"seconds", seconds},
+                             {"boundary_seconds", boundary_seconds}, {"sampling_seconds", sampling_seconds}};
     j["shell"] = shell_json(stats);
     const std::string text = j.dump(2) + "\n";
     if (!a->report.empty() && a->report != "-") write_file_atomically(a->report, [&](AtomicFile& f) { f.write(text); });
@@ -120,8 +136,9 @@ void add_surface_command(CLI::App& app) {
       std::fputs(text.c_str(), stdout);
       return;
     }
-    std::printf("%s -> %s  (radius %s, surface area %s, %.2fs)\n", mesh.source.c_str(), a->output.c_str(),
-                num(samples.radius).c_str(), num(samples.surface_area).c_str(), seconds);
+    std::printf("%s -> %s  (radius %s, surface area %s, %.2fs: boundary %.2fs, sampling %.2fs)\n",
+                mesh.source.c_str(), a->output.c_str(), num(samples.radius).c_str(), num(samples.surface_area).c_str(),
+                seconds, boundary_seconds, sampling_seconds);
     print_shell(stdout, stats);
   });
 }

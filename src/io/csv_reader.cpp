@@ -80,8 +80,15 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
   const int vx = column({"vx", "v.x"}), vy = column({"vy", "v.y"}), vz = column({"vz", "v.z"});
   const bool velocities = vx >= 0 && vy >= 0 && vz >= 0;
   const int id = column({"id"});
+  // Boundary particles' attributes, read when asked for.
+  ParticleAttributes* attributes = options.attributes;
+  const int kind = attributes ? column({"kind"}) : -1, area = attributes ? column({"area"}) : -1;
+  const int nx = attributes ? column({"nx"}) : -1, ny = column({"ny"}), nz = column({"nz"});
+  const bool normals = nx >= 0 && ny >= 0 && nz >= 0;
+  if (attributes) *attributes = {};
   const size_t needed = static_cast<size_t>(std::max({x, y, z, radius, colours ? std::max({r, g, b}) : -1,
-                                                      velocities ? std::max({vx, vy, vz}) : -1, id})) + 1;
+                                                      velocities ? std::max({vx, vy, vz}) : -1, id, kind, area,
+                                                      normals ? std::max({nx, ny, nz}) : -1})) + 1;
 
   ParticleSet particles;
   while (next_line(line)) {
@@ -119,8 +126,12 @@ ParticleSet read_csv(const std::filesystem::path& path, const ParticleReadOption
         fail("line " + std::to_string(line_number) + ": id " + fields[id] + " is not a whole number >= 0");
       particles.ids.push_back(static_cast<uint64_t>(v));
     }
+    if (kind >= 0) attributes->kinds.push_back(kind_of(number(kind)));
+    if (normals) attributes->normals.emplace_back(number(nx), number(ny), number(nz));
+    if (area >= 0) attributes->areas.push_back(number(area));
   }
   validate(particles, name);
+  if (attributes) validate(*attributes, particles.size(), name);
   return particles;
 }
 

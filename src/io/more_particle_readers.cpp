@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -37,6 +38,20 @@ void finish(ParticleSet& s, const fs::path& path, const ParticleReadOptions& opt
         !(s.radii[i] > 0))
       bad(path, "particle " + std::to_string(i + 1) + " has a position or radius that is not a finite number > 0");
   }
+}
+
+// The boundary particles' attributes from columns of n entries (empty:
+// absent; normals 3 per particle), checked.
+void set_attributes(ParticleAttributes* a, size_t n, const std::vector<double>& kinds,
+                    const std::vector<double>& normals, const std::vector<double>& areas, const fs::path& path) {
+  if (!a) return;
+  *a = {};
+  for (double k : kinds) a->kinds.push_back(kind_of(k));
+  for (size_t i = 0; i + 2 < normals.size(); i += 3)
+    a->normals.emplace_back(normals[i], normals[i + 1], normals[i + 2]);
+  a->areas = areas;
+  if (!normals.empty() && normals.size() != 3 * n) bad(path, "its normals differ in length from its points");
+  validate(*a, n, path.string());
 }
 
 template <class T>
@@ -126,6 +141,12 @@ ParticleSet read_glb(const fs::path& path, const ParticleReadOptions& options) {
     if ((!s.radii.empty() && s.radii.size() != n) || (!s.ids.empty() && s.ids.size() != n) ||
         (!s.colours.empty() && s.colours.size() != n))
       bad(path, "its attributes differ in length");
+    if (options.attributes) {
+      auto optional = [&](const char* name, size_t width) {
+        return primitive["attributes"].contains(name) ? floats(name, width) : std::vector<double>();
+      };
+      set_attributes(options.attributes, n, optional("_KIND", 1), optional("_NORMAL", 3), optional("_AREA", 1), path);
+    }
   } catch (const nlohmann::json::exception& e) {
     bad(path, std::string("not pfill's glTF layout (") + e.what() + ")");
   }
@@ -210,6 +231,9 @@ ParticleSet read_vtp(const fs::path& path, const ParticleReadOptions& options) {
   for (size_t i = 0; i < n; ++i) s.positions.push_back({p[3 * i], p[3 * i + 1], p[3 * i + 2]});
   s.radii = array("radius", 1, false);
   for (double id : array("id", 1, false)) s.ids.push_back(static_cast<uint64_t>(id));
+  if (options.attributes)
+    set_attributes(options.attributes, n, array("kind", 1, false), array("normal", 3, false), array("area", 1, false),
+                   path);
   finish(s, path, options);
   return s;
 }
@@ -250,6 +274,7 @@ ParticleSet read_lammps_data(const fs::path& path, const ParticleReadOptions& op
     break;
   }
   if (!counted) bad(path, "no atom count: not a LAMMPS data file");
+  if (options.attributes) *options.attributes = {};  // atom types are not kinds in every file
   if (s.size() != atoms) bad(path, "the Atoms section holds " + std::to_string(s.size()) + " of " +
                                        std::to_string(atoms) + " atoms");
   finish(s, path, options);
@@ -261,20 +286,45 @@ ParticleSet read_xyzr(const fs::path& path, const ParticleReadOptions& options) 
   std::string line;
   ParticleSet s;
   size_t number = 0;
+  // pfill's comment line `# x y z r id ...` names the columns past the fourth.
+  std::vector<std::string> names;
+  std::vector<double> kinds, normals, areas;
+  auto column = [&](const char* name) {
+    const auto at = std::find(names.begin(), names.end(), name);
+    return at == names.end() ? -1 : static_cast<int>(at - names.begin());
+  };
+  int kind = -1, nx = -1, area = -1;
   while (std::getline(in, line)) {
     ++number;
     const size_t start = line.find_first_not_of(" \t\r");
-    if (start == std::string::npos || line[start] == '#') continue;
+    if (start == std::string::npos) continue;
+    if (line[start] == '#') {
+      std::istringstream words(line.substr(start + 1));
+      std::vector<std::string> w{std::istream_iterator<std::string>(words), std::istream_iterator<std::string>()};
+      if (w.size() >= 4 && w[0] == "x" && w[1] == "y" && w[2] == "z" && w[3] == "r") {
+        names = w;
+        kind = column("kind"), nx = column("nx"), area = column("area");
+      }
+      continue;
+    }
     std::istringstream fields(line);
-    Vec3 p;
-    double r = 0, id = 0;
-    if (!(fields >> p.x >> p.y >> p.z >> r))
-      bad(path, "line " + std::to_string(number) + " is not `x y z r`: '" + excerpt(line) + "'");
-    s.positions.push_back(p);
-    s.radii.push_back(r);
-    if (fields >> id) s.ids.push_back(static_cast<uint64_t>(id));
+    std::vector<double> v;
+    for (double x; fields >> x;) v.push_back(x);
+    if (v.size() < 4) bad(path, "line " + std::to_string(number) + " is not `x y z r`: '" + excerpt(line) + "'");
+    s.positions.push_back({v[0], v[1], v[2]});
+    s.radii.push_back(v[3]);
+    if (v.size() > 4) s.ids.push_back(static_cast<uint64_t>(v[4]));
+    auto at = [&](int k) {
+      if (static_cast<size_t>(k) >= v.size())
+        bad(path, "line " + std::to_string(number) + " lacks columns its header names");
+      return v[k];
+    };
+    if (kind >= 0) kinds.push_back(at(kind));
+    if (nx >= 0) normals.insert(normals.end(), {at(nx), at(nx + 1), at(nx + 2)});
+    if (area >= 0) areas.push_back(at(area));
   }
   if (!s.ids.empty() && s.ids.size() != s.size()) s.ids.clear();
+  set_attributes(options.attributes, s.size(), kinds, normals, areas, path);
   finish(s, path, options);
   return s;
 }

@@ -250,6 +250,10 @@ class PlyParser {
     const int vx = find({"vx", "v.x"}), vy = find({"vy", "v.y"}), vz = find({"vz", "v.z"});
     const bool velocities = vx >= 0 && vy >= 0 && vz >= 0;
     const int id = find({"id"});
+    // Boundary particles' attributes (fill --shell, pfill surface).
+    ParticleAttributes* attributes = options.attributes;
+    const int kind = find({"kind"}), nx = find({"nx"}), ny = find({"ny"}), nz = find({"nz"}), area = find({"area"});
+    const bool normals = nx >= 0 && ny >= 0 && nz >= 0;
 
     check_fits(element);
     const size_t n = static_cast<size_t>(element.count);
@@ -259,6 +263,12 @@ class PlyParser {
     if (colours) particles.colours.resize(n);
     if (velocities) particles.velocities.resize(n);
     if (id >= 0) particles.ids.resize(n);
+    if (attributes) {
+      *attributes = {};
+      if (kind >= 0) attributes->kinds.resize(n);
+      if (normals) attributes->normals.resize(n);
+      if (area >= 0) attributes->areas.resize(n);
+    }
 
     std::vector<double> values(element.properties.size());
     auto colour = [&](int k) {
@@ -277,8 +287,14 @@ class PlyParser {
       }
       if (velocities) particles.velocities[i] = Vec3(values[vx], values[vy], values[vz]);
       if (id >= 0) particles.ids[i] = values[id] >= 0 && values[id] < 1.8e19 ? static_cast<uint64_t>(values[id]) : 0;
+      if (attributes) {
+        if (kind >= 0) attributes->kinds[i] = kind_of(values[kind]);
+        if (normals) attributes->normals[i] = Vec3(values[nx], values[ny], values[nz]);
+        if (area >= 0) attributes->areas[i] = values[area];
+      }
     }
     validate(particles, path_);
+    if (attributes) validate(*attributes, n, path_);
     return particles;
   }
 
