@@ -4,6 +4,7 @@
 // against exact queries, reports the median of several builds.
 //
 //   bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B]
+//             [--outer-band-spacings B (outside the solid; default the same)]
 //             [--threads T] [--json FILE] [MESH.obj ...]
 #include <tbb/global_control.h>
 
@@ -47,7 +48,7 @@ struct Verification {
   int sign_points = 0;
 };
 
-Verification verify(const Boundary& boundary, const ScalarGrid& grid, double band) {
+Verification verify(const Boundary& boundary, const ScalarGrid& grid, double inner_band, double outer_band) {
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Vec3 size = grid.upper() - grid.origin;
@@ -57,7 +58,7 @@ Verification verify(const Boundary& boundary, const ScalarGrid& grid, double ban
     const Vec3 p = grid.origin + Vec3(u(rng) * size.x, u(rng) * size.y, u(rng) * size.z);
     const double exact = boundary.signed_distance(p);
     const double value = sample(grid, p);
-    if (std::fabs(exact) < band - diagonal) {
+    if (std::fabs(exact) < (exact > 0 ? outer_band : inner_band) - diagonal) {
       v.max_band_error = std::max(v.max_band_error, std::fabs(value - exact));
       ++v.band_points;
     }
@@ -84,6 +85,7 @@ int main(int argc, char** argv) {
     std::vector<int> sizes = {64, 128, 256, 512};
     int trials = 3;
     double band_spacings = 4;
+    double outer_band_spacings = -1;
     int threads = 0;
     std::string json_path;
     std::vector<std::string> mesh_paths;
@@ -96,11 +98,12 @@ int main(int argc, char** argv) {
       if (arg == "--sizes") sizes = parse_sizes(next());
       else if (arg == "--trials") trials = std::max(1, std::stoi(next()));
       else if (arg == "--band-spacings") band_spacings = std::stod(next());
+      else if (arg == "--outer-band-spacings") outer_band_spacings = std::stod(next());
       else if (arg == "--threads") threads = std::stoi(next());
       else if (arg == "--json") json_path = next();
       else if (arg == "--help" || arg == "-h") {
-        std::cout << "bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B] [--threads T] "
-                     "[--json FILE] [MESH.obj ...]\n";
+        std::cout << "bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B] "
+                     "[--outer-band-spacings B] [--threads T] [--json FILE] [MESH.obj ...]\n";
         return 0;
       } else mesh_paths.push_back(arg);
     }
@@ -135,6 +138,7 @@ int main(int argc, char** argv) {
       for (int n : sizes) {
         SdfOptions options(spacing_for_resolution(mesh.bounds(), n));
         options.band = band_spacings * options.spacing;
+        if (outer_band_spacings >= 0) options.outer_band = outer_band_spacings * options.spacing;
         const int runs = n > 256 ? 1 : trials;
         std::vector<double> times, cpu_times;
         SdfStats stats;
@@ -150,7 +154,7 @@ int main(int argc, char** argv) {
         std::sort(cpu_times.begin(), cpu_times.end());
         const double median = times[times.size() / 2];
         const double cpu_median = cpu_times[cpu_times.size() / 2];
-        const Verification check = verify(boundary, grid, stats.band);
+        const Verification check = verify(boundary, grid, stats.band, stats.outer_band);
         const std::string dims = std::to_string(stats.dims[0]) + "x" + std::to_string(stats.dims[1]) + "x" +
                                  std::to_string(stats.dims[2]);
         std::printf("%-28s %9zu %5d %15s %12zu %9.3f %8.2f %9.1f %11zu %8zu %10.2e %3d/%d\n", name.c_str(),
@@ -173,6 +177,7 @@ int main(int argc, char** argv) {
                         {"parity_queries", stats.parity_queries},
                         {"spacing", options.spacing},
                         {"band", stats.band},
+                        {"outer_band", stats.outer_band},
                         {"octree_levels", stats.levels},
                         {"boundary_build_seconds", boundary_seconds},
                         {"verify_max_band_error", check.max_band_error},
