@@ -5,6 +5,15 @@
 //
 //   bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B]
 //             [--outer-band-spacings B (outside the solid; default the same)]
+//   bench_sdf --fill-radius R [--trials N] MESH.obj
+//
+// --fill-radius R: the field a fill at particle radius R builds (spacing
+// 0.33 R, coarsened as the fill does past 2^26 samples; margin 2 R + 3
+// spacings), with the fill's bands before issue 32
+// (max(3 R, 4 spacings) on both sides) and now (max(2 R, 4 spacings)
+// inside, 4 spacings outside, exact every 4 spacings deeper in), built in
+// turn N times each; prints wall and CPU seconds, exact queries and the
+// deepest value of each build.
 //             [--threads T] [--json FILE] [MESH.obj ...]
 #include <tbb/global_control.h>
 
@@ -89,6 +98,7 @@ int main(int argc, char** argv) {
     int threads = 0;
     std::string json_path;
     std::vector<std::string> mesh_paths;
+    double fill_radius = 0;
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
       auto next = [&]() -> std::string {
@@ -100,6 +110,7 @@ int main(int argc, char** argv) {
       else if (arg == "--band-spacings") band_spacings = std::stod(next());
       else if (arg == "--outer-band-spacings") outer_band_spacings = std::stod(next());
       else if (arg == "--threads") threads = std::stoi(next());
+      else if (arg == "--fill-radius") fill_radius = std::stod(next());
       else if (arg == "--json") json_path = next();
       else if (arg == "--help" || arg == "-h") {
         std::cout << "bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B] "
@@ -121,6 +132,41 @@ int main(int argc, char** argv) {
     if (meshes.empty()) {
       meshes.push_back(make_torus(1.0, 0.4, 256, 128));
       meshes.back().source = "generated torus (R 1, r 0.4, 65,536 triangles)";
+    }
+
+    if (fill_radius > 0) {  // the fill's field, its bands before and after issue 32, in turn
+      for (const Mesh& mesh : meshes) {
+        const Boundary boundary(mesh);
+        const double r = fill_radius;
+        // fill_plan.cpp: 0.33 r, coarsened to stay within 2^26 samples.
+        double h = 0.33 * r;
+        const Vec3 size = mesh.bounds().size();
+        const double margin = 3 * h + 2 * r;
+        const double samples =
+            (size.x + 2 * margin) / h * ((size.y + 2 * margin) / h) * ((size.z + 2 * margin) / h);
+        const double most = static_cast<double>(size_t(1) << 26);
+        if (samples > most) h *= std::cbrt(samples / most) * 1.01;
+        SdfOptions before(h);
+        before.margin = 2 * r + 3 * h;
+        before.band = std::max(3 * r, 4 * h);
+        SdfOptions now = before;
+        now.band = std::max(2 * r, 4 * h);
+        now.outer_band = 4 * h;
+        now.inside_cell = 4;
+        for (int t = 0; t < trials; ++t)
+          for (int v = 0; v < 2; ++v) {
+            SdfStats st;
+            const std::clock_t cpu0 = std::clock();
+            const ScalarGrid grid = build_signed_distance_field(boundary, v ? now : before, &st);
+            const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+            const float deepest = *std::min_element(grid.values.begin(), grid.values.end());
+            std::printf("%s %s: %zu samples, wall %.3f s, CPU %.3f s, %zu exact, deepest %.6f\n",
+                        std::filesystem::path(mesh.source).filename().string().c_str(), v ? "now   " : "before",
+                        st.samples, st.seconds, cpu, st.exact_queries, -static_cast<double>(deepest));
+            std::fflush(stdout);
+          }
+      }
+      return 0;
     }
 
     nlohmann::json rows = nlohmann::json::array();
