@@ -6,7 +6,7 @@
 //   bench_fill [--mesh spot|bunny|torus|all] [--seeds N] [--stop-compare]
 //              [--device SPEC] [--json FILE]
 //   bench_fill --scale [--sizes 4000,16000,64000,100000] [--repeat R] [--mesh spot|bunny|torus]
-//              [--sites N] [--birth-every K] [--sort-every S] [--device SPEC] [--json FILE]
+//              [--sites N] [--birth-every K] [--sort-every S] [--no-profile] [--device SPEC] [--json FILE]
 //
 // --stop-compare fills spot once per stopping signal (blocked, ke,
 // collisions) and reports what each gives.
@@ -23,6 +23,10 @@
 // (e.g. --sites 2 --birth-every 3, the schedule before births in waves);
 // --sort-every S renumbers the particles along the cells every S steps of
 // the passes before the finish (FillOptions::sort_every; 0: never).
+// --scale profiles each fill's queue (PFILL_PROFILE=1; --no-profile: not)
+// and adds a line per count: the share of the time past the field that the
+// device was busy (kernels and transfers), and per pass its steps, seconds,
+// and kernel, transfer and host seconds.
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -123,7 +127,7 @@ struct ScaleRun {
 /// parent never opens OpenCL, so the fork is safe): the child sends its
 /// figures back as one line of JSON, peak RSS included.
 nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int birth_every, int sort_every,
-                                  const std::string& device) {
+                                  const std::string& device, bool profile) {
   int fds[2];
   if (pipe(fds) != 0) throw Error("bench_fill: cannot make a pipe");
   std::fflush(stdout);
@@ -131,6 +135,7 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
   if (pid < 0) throw Error("bench_fill: cannot fork");
   if (pid == 0) {
     close(fds[0]);
+    if (profile) setenv("PFILL_PROFILE", "1", 1);  // the fill's queue profiles: per-pass device times
     nlohmann::ordered_json j;
     try {
       FillOptions o;
@@ -146,8 +151,18 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
       rusage ru{};  // CPU time (the peak memory is the fill's own: FillResult::peak_memory)
       getrusage(RUSAGE_SELF, &ru);
       nlohmann::ordered_json passes = nlohmann::ordered_json::array();
-      for (const PassStats& p : r.passes)
+      double busy = 0;
+      bool profiled = false;
+      for (const PassStats& p : r.passes) {
         passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+        if (p.kernel_seconds >= 0) {  // PFILL_PROFILE=1 (the default of --scale)
+          passes.back()["kernel_seconds"] = p.kernel_seconds;
+          passes.back()["transfer_seconds"] = p.transfer_seconds;
+          passes.back()["host_seconds"] = p.seconds - p.kernel_seconds - p.transfer_seconds;
+          busy += p.kernel_seconds + p.transfer_seconds;
+          profiled = true;
+        }
+      }
       const PackingMetrics& m = r.metrics;
       j = {{"asked", count},
            {"count", m.count},
@@ -169,6 +184,10 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
            {"peak_rss_mib", r.peak_memory / 1048576.0},
            {"cpu_seconds", ru.ru_utime.tv_sec + ru.ru_stime.tv_sec + 1e-6 * (ru.ru_utime.tv_usec + ru.ru_stime.tv_usec)},
            {"device", r.device}};
+      // The share of the fill's time past the field that the device spent
+      // in kernels and transfers (the rest: the host's work between them,
+      // site choice, the exact check).
+      if (profiled) j["device_busy"] = busy / std::max(1e-9, wall - r.field_seconds);
     } catch (const std::exception& e) {
       j = {{"asked", count}, {"error", e.what()}};
     }
@@ -224,11 +243,20 @@ void print_scale_row(size_t n, const nlohmann::ordered_json& j) {
               pass_steps(j, "settle"), pass_steps(j, "finish"), pass_seconds(j, "finish"),
               j["packing_fraction"].get<double>(), 100 * j["max_overlap"].get<double>(), j["largest_hole"].get<double>(),
               100 * j["contained_share"].get<double>(), j["peak_rss_mib"].get<double>());
+  if (j.contains("device_busy")) {  // the profile: per pass, kernels, transfers, host
+    std::printf("|   | device busy %.0f%% of the time past the field:", 100 * j["device_busy"].get<double>());
+    for (const auto& p : j["passes"])
+      if (p.contains("kernel_seconds"))
+        std::printf(" %s %.0f steps %.2f s (kernels %.2f, transfers %.2f, host %.2f);", p["pass"].get<std::string>().c_str(),
+                    p["steps"].get<double>(), p["seconds"].get<double>(), p["kernel_seconds"].get<double>(),
+                    p["transfer_seconds"].get<double>(), p["host_seconds"].get<double>());
+    std::printf(" |\n");
+  }
   std::fflush(stdout);
 }
 
 nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vector<size_t>& sizes, int repeat,
-                                 int sites, int birth_every, int sort_every, const std::string& device) {
+                                 int sites, int birth_every, int sort_every, const std::string& device, bool profile) {
   std::printf("scale: %s, sites %s, birth every %s\n", c.name.c_str(),
               sites >= 0 ? std::to_string(sites).c_str() : "auto",
               birth_every ? std::to_string(birth_every).c_str() : "auto");
@@ -240,7 +268,7 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
   std::vector<nlohmann::ordered_json> fastest(sizes.size());
   for (int round = 0; round < repeat; ++round)
     for (size_t k = 0; k < sizes.size(); ++k) {
-      const nlohmann::ordered_json j = scale_fill(mesh, sizes[k], sites, birth_every, sort_every, device);
+      const nlohmann::ordered_json j = scale_fill(mesh, sizes[k], sites, birth_every, sort_every, device, profile);
       all.push_back(j);
       if (j.contains("error")) {
         std::printf("| %zu | failed: %s |\n", sizes[k], j["error"].get<std::string>().c_str());
@@ -292,7 +320,7 @@ nlohmann::ordered_json run_scale(const Case& c, const Mesh& mesh, const std::vec
 int main(int argc, char** argv) {
   std::string which = "all", json_path, device;
   int seeds = 1;
-  bool stop_compare = false, scale = false;
+  bool stop_compare = false, scale = false, profile = true;
   std::vector<size_t> sizes{4000, 16000, 64000, 100000};
   int sites = -1, birth_every = 0, sort_every = -1, repeat = 1;
   for (int i = 1; i < argc; ++i) {
@@ -307,6 +335,7 @@ int main(int argc, char** argv) {
     else if (a == "--device") device = value();
     else if (a == "--stop-compare") stop_compare = true;
     else if (a == "--scale") scale = true;
+    else if (a == "--no-profile") profile = false;
     else if (a == "--sizes") sizes = parse_sizes(value());
     else if (a == "--repeat") repeat = std::max(1, std::stoi(value()));
     else if (a == "--sites") sites = std::stoi(value());
@@ -316,7 +345,7 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "usage: bench_fill [--mesh spot|bunny|torus|all] [--seeds N] [--stop-compare] "
                            "[--device SPEC] [--json FILE]\n"
                            "       bench_fill --scale [--sizes 4000,16000,64000,100000] [--repeat R] [--mesh spot|bunny|torus] "
-                           "[--sites N] [--birth-every K] [--sort-every S] [--device SPEC] [--json FILE]\n");
+                           "[--sites N] [--birth-every K] [--sort-every S] [--no-profile] [--device SPEC] [--json FILE]\n");
       return 2;
     }
   }
@@ -336,7 +365,7 @@ int main(int argc, char** argv) {
         continue;
       }
       if (scale) {
-        runs.push_back(run_scale(c, mesh, sizes, repeat, sites, birth_every, sort_every, device));
+        runs.push_back(run_scale(c, mesh, sizes, repeat, sites, birth_every, sort_every, device, profile));
         continue;
       }
       for (int s = 1; s <= seeds; ++s) runs.push_back(run_case(c, mesh, s, StopCriterion::Blocked, device));

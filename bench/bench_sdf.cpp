@@ -4,6 +4,16 @@
 // against exact queries, reports the median of several builds.
 //
 //   bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B]
+//             [--outer-band-spacings B (outside the solid; default the same)]
+//   bench_sdf --fill-radius R [--trials N] MESH.obj
+//
+// --fill-radius R: the field a fill at particle radius R builds (spacing
+// 0.33 R, coarsened as the fill does past 2^26 samples; margin 2 R + 3
+// spacings), with the fill's bands before issue 32
+// (max(3 R, 4 spacings) on both sides) and now (max(2 R, 4 spacings)
+// inside, 4 spacings outside, exact every 4 spacings deeper in), built in
+// turn N times each; prints wall and CPU seconds, exact queries and the
+// deepest value of each build.
 //             [--threads T] [--json FILE] [MESH.obj ...]
 #include <tbb/global_control.h>
 
@@ -47,7 +57,7 @@ struct Verification {
   int sign_points = 0;
 };
 
-Verification verify(const Boundary& boundary, const ScalarGrid& grid, double band) {
+Verification verify(const Boundary& boundary, const ScalarGrid& grid, double inner_band, double outer_band) {
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const Vec3 size = grid.upper() - grid.origin;
@@ -57,7 +67,7 @@ Verification verify(const Boundary& boundary, const ScalarGrid& grid, double ban
     const Vec3 p = grid.origin + Vec3(u(rng) * size.x, u(rng) * size.y, u(rng) * size.z);
     const double exact = boundary.signed_distance(p);
     const double value = sample(grid, p);
-    if (std::fabs(exact) < band - diagonal) {
+    if (std::fabs(exact) < (exact > 0 ? outer_band : inner_band) - diagonal) {
       v.max_band_error = std::max(v.max_band_error, std::fabs(value - exact));
       ++v.band_points;
     }
@@ -84,9 +94,11 @@ int main(int argc, char** argv) {
     std::vector<int> sizes = {64, 128, 256, 512};
     int trials = 3;
     double band_spacings = 4;
+    double outer_band_spacings = -1;
     int threads = 0;
     std::string json_path;
     std::vector<std::string> mesh_paths;
+    double fill_radius = 0;
     for (int i = 1; i < argc; ++i) {
       const std::string arg = argv[i];
       auto next = [&]() -> std::string {
@@ -96,11 +108,13 @@ int main(int argc, char** argv) {
       if (arg == "--sizes") sizes = parse_sizes(next());
       else if (arg == "--trials") trials = std::max(1, std::stoi(next()));
       else if (arg == "--band-spacings") band_spacings = std::stod(next());
+      else if (arg == "--outer-band-spacings") outer_band_spacings = std::stod(next());
       else if (arg == "--threads") threads = std::stoi(next());
+      else if (arg == "--fill-radius") fill_radius = std::stod(next());
       else if (arg == "--json") json_path = next();
       else if (arg == "--help" || arg == "-h") {
-        std::cout << "bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B] [--threads T] "
-                     "[--json FILE] [MESH.obj ...]\n";
+        std::cout << "bench_sdf [--sizes 64,128,256,512] [--trials N] [--band-spacings B] "
+                     "[--outer-band-spacings B] [--threads T] [--json FILE] [MESH.obj ...]\n";
         return 0;
       } else mesh_paths.push_back(arg);
     }
@@ -120,6 +134,41 @@ int main(int argc, char** argv) {
       meshes.back().source = "generated torus (R 1, r 0.4, 65,536 triangles)";
     }
 
+    if (fill_radius > 0) {  // the fill's field, its bands before and after issue 32, in turn
+      for (const Mesh& mesh : meshes) {
+        const Boundary boundary(mesh);
+        const double r = fill_radius;
+        // fill_plan.cpp: 0.33 r, coarsened to stay within 2^26 samples.
+        double h = 0.33 * r;
+        const Vec3 size = mesh.bounds().size();
+        const double margin = 3 * h + 2 * r;
+        const double samples =
+            (size.x + 2 * margin) / h * ((size.y + 2 * margin) / h) * ((size.z + 2 * margin) / h);
+        const double most = static_cast<double>(size_t(1) << 26);
+        if (samples > most) h *= std::cbrt(samples / most) * 1.01;
+        SdfOptions before(h);
+        before.margin = 2 * r + 3 * h;
+        before.band = std::max(3 * r, 4 * h);
+        SdfOptions now = before;
+        now.band = std::max(2 * r, 4 * h);
+        now.outer_band = 4 * h;
+        now.inside_cell = 4;
+        for (int t = 0; t < trials; ++t)
+          for (int v = 0; v < 2; ++v) {
+            SdfStats st;
+            const std::clock_t cpu0 = std::clock();
+            const ScalarGrid grid = build_signed_distance_field(boundary, v ? now : before, &st);
+            const double cpu = double(std::clock() - cpu0) / CLOCKS_PER_SEC;
+            const float deepest = *std::min_element(grid.values.begin(), grid.values.end());
+            std::printf("%s %s: %zu samples, wall %.3f s, CPU %.3f s, %zu exact, deepest %.6f\n",
+                        std::filesystem::path(mesh.source).filename().string().c_str(), v ? "now   " : "before",
+                        st.samples, st.seconds, cpu, st.exact_queries, -static_cast<double>(deepest));
+            std::fflush(stdout);
+          }
+      }
+      return 0;
+    }
+
     nlohmann::json rows = nlohmann::json::array();
     std::printf("%-28s %9s %5s %15s %12s %9s %8s %9s %11s %8s %10s %7s\n", "mesh", "triangles", "n", "dims",
                 "cells", "seconds", "cpu_s", "MB", "exact", "parity", "band_err", "signs");
@@ -135,6 +184,7 @@ int main(int argc, char** argv) {
       for (int n : sizes) {
         SdfOptions options(spacing_for_resolution(mesh.bounds(), n));
         options.band = band_spacings * options.spacing;
+        if (outer_band_spacings >= 0) options.outer_band = outer_band_spacings * options.spacing;
         const int runs = n > 256 ? 1 : trials;
         std::vector<double> times, cpu_times;
         SdfStats stats;
@@ -150,7 +200,7 @@ int main(int argc, char** argv) {
         std::sort(cpu_times.begin(), cpu_times.end());
         const double median = times[times.size() / 2];
         const double cpu_median = cpu_times[cpu_times.size() / 2];
-        const Verification check = verify(boundary, grid, stats.band);
+        const Verification check = verify(boundary, grid, stats.band, stats.outer_band);
         const std::string dims = std::to_string(stats.dims[0]) + "x" + std::to_string(stats.dims[1]) + "x" +
                                  std::to_string(stats.dims[2]);
         std::printf("%-28s %9zu %5d %15s %12zu %9.3f %8.2f %9.1f %11zu %8zu %10.2e %3d/%d\n", name.c_str(),
@@ -173,6 +223,7 @@ int main(int argc, char** argv) {
                         {"parity_queries", stats.parity_queries},
                         {"spacing", options.spacing},
                         {"band", stats.band},
+                        {"outer_band", stats.outer_band},
                         {"octree_levels", stats.levels},
                         {"boundary_build_seconds", boundary_seconds},
                         {"verify_max_band_error", check.max_band_error},

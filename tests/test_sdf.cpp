@@ -167,6 +167,77 @@ TEST_CASE("the narrow band holds exactly the values of a fully exact field") {
   CHECK(narrow_stats.exact_queries < full_stats.exact_queries * 7 / 10);
 }
 
+TEST_CASE("the fill's bands: exact within 2 r inside and 4 spacings outside, right sign and a bound beyond") {
+  // The fill's proportions (fill_plan.cpp): spacing r / 3, exact values
+  // within max(2 r, 4 spacings) inside and 4 spacings outside, and deeper
+  // in on a lattice of 4 spacings; against a fully exact field, grid point
+  // by grid point.
+  const Boundary boundary(make_torus(1.0, 0.4, 48, 24));
+  const double r = 0.06, h = r / 3;
+  SdfOptions banded{h};
+  banded.band = 2 * r;
+  banded.outer_band = 4 * h;
+  banded.inside_cell = 4;
+  SdfOptions symmetric{h};
+  symmetric.band = 3 * r;  // the band before issue 32, on both sides
+  SdfOptions full{h};
+  full.band = std::numeric_limits<double>::infinity();
+  SdfStats stats, symmetric_stats, full_stats;
+  const ScalarGrid a = build_signed_distance_field(boundary, banded, &stats);
+  const ScalarGrid s = build_signed_distance_field(boundary, symmetric, &symmetric_stats);
+  const ScalarGrid b = build_signed_distance_field(boundary, full, &full_stats);
+  REQUIRE(a.dims == b.dims);
+  CHECK(stats.band == doctest::Approx(2 * r));
+  CHECK(stats.outer_band == doctest::Approx(4 * h));
+  // Deep values come from a coarser level: off by at most its cell diagonal.
+  const double coarse_diagonal = cell_diagonal(a) * (1 << stats.levels);
+  size_t inside_band = 0, outside_band = 0, deep = 0, far = 0;
+  size_t wrong_sign = 0, inexact = 0, below_band = 0, off = 0;  // counted, then checked: 10^6 points
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double exact = b.values[i], value = a.values[i];
+    if (exact == 0) {  // on the surface
+      inexact += value != 0;
+      continue;
+    }
+    wrong_sign += (value < 0) != (exact < 0);  // the sign, everywhere
+    const double band = exact < 0 ? stats.band : stats.outer_band;
+    if (std::fabs(exact) < band) {
+      inexact += value != exact;
+      ++(exact < 0 ? inside_band : outside_band);
+    } else {
+      // Beyond the band: at least the band (so a depth of r, the holes'
+      // test, and of 2 r, the wave sites', read from the field are true),
+      // and near the truth.
+      below_band += std::fabs(value) < band * (1 - 1e-6);
+      off += std::fabs(value - exact) > coarse_diagonal;
+      ++(exact < 0 ? deep : far);
+    }
+  }
+  CHECK(wrong_sign == 0);
+  CHECK(inexact == 0);
+  CHECK(below_band == 0);
+  CHECK(off == 0);
+  CHECK(inside_band > 1000);
+  CHECK(outside_band > 1000);
+  CHECK(deep > 1000);
+  CHECK(far > 1000);
+  // The deepest grid point is an exact sample, within half a diagonal of
+  // the inside lattice (4 spacings) of the deepest of the exact field
+  // (birth sites start there).
+  const size_t deepest = static_cast<size_t>(std::min_element(a.values.begin(), a.values.end()) - a.values.begin());
+  const float exact_deepest = *std::min_element(b.values.begin(), b.values.end());
+  CHECK(a.values[deepest] == b.values[deepest]);
+  CHECK(a.values[deepest] >= exact_deepest);
+  CHECK(a.values[deepest] <= exact_deepest + 0.5 * 4 * cell_diagonal(a));
+  // Inside, deep values are off by at most that lattice's cell diagonal.
+  size_t deep_off = 0;
+  for (size_t i = 0; i < a.size(); ++i)
+    if (b.values[i] < -stats.band) deep_off += std::fabs(a.values[i] - b.values[i]) > 4 * cell_diagonal(a);
+  CHECK(deep_off == 0);
+  // Fewer exact queries than the symmetric band of 3 r.
+  CHECK(stats.exact_queries < symmetric_stats.exact_queries * 8 / 10);
+}
+
 TEST_CASE("cube field: signs everywhere, inside-out cube gives the same field") {
   const Boundary cube(make_cube(1.0, 4));
   const Boundary inverted(make_inside_out_cube(1.0, 4));

@@ -156,6 +156,12 @@ struct PassStats {
   std::string name;
   uint64_t steps = 0;
   double seconds = 0;
+  /// With PFILL_PROFILE=1 in the environment (the OpenCL engine's queue
+  /// then profiles every command): the device's time in kernels and in
+  /// host-device transfers during the pass; the rest of `seconds` is the
+  /// host's work between them. < 0 when not profiled.
+  double kernel_seconds = -1;
+  double transfer_seconds = -1;
 };
 
 struct FillResult {

@@ -3,17 +3,23 @@
 /// boundary kernel samples in the fill, built here from Boundary queries;
 /// plus trilinear sampling and its gradient on the host.
 ///
-/// Values are negative inside. Grid samples within `band` of the surface
-/// hold the exact distance (as float); deeper samples hold a cheap value of
-/// the right sign whose magnitude is at least `band` and within one coarse
+/// Values are negative inside. Grid samples within the band of the surface
+/// (`band` inside the solid, `outer_band` outside it) hold the exact
+/// distance (as float); farther samples hold a cheap value of the right
+/// sign whose magnitude is at least that side's band and within one coarse
 /// cell diagonal of the truth (trilinear interpolation of exact values on a
-/// coarser level). The build refines an octree of grid cells top-down: a
-/// cell whose corner distances prove it lies wholly farther than `band` from
-/// the surface (1-Lipschitz bound) is filled by interpolation, every other
-/// cell is split until single grid cells, whose corners get exact values
-/// (except corners that the parent's corners already prove to lie outside
-/// the band: those are interpolated too). Exact work is thus ~1.2x the
-/// number of grid points within the band.
+/// coarser level). Trilinear values take their extremes at the corners, so
+/// the deepest grid point of a deep region is one of those exact corners.
+/// The fill asks for exact values only a little deeper than where the wall
+/// acts (a radius), and a thinner band outside, where only the sign and the
+/// direction back in matter (fill_plan.cpp).
+/// The build refines an octree of grid cells top-down: a cell whose corner
+/// distances prove it lies wholly farther than its side's band from the
+/// surface (1-Lipschitz bound) is filled by interpolation, every other cell
+/// is split until single grid cells, whose corners get exact values (except
+/// corners that the parent's corners already prove to lie outside the band:
+/// those are interpolated too). Exact work is thus ~1.2x the number of grid
+/// points within the band.
 /// Signs: ray-parity majority vote on the coarsest level (robust to small
 /// holes), the closest feature's pseudonormal below it where the mesh is
 /// closed (Boundary::fast_signed_distance), and a whole deep cell shares
@@ -35,6 +41,12 @@ struct SdfOptions {
   double spacing = 0;    ///< grid spacing, > 0
   double margin = -1;    ///< added to every side of the bounding box; < 0: 3 spacings
   double band = -1;      ///< exact where |distance| < band; < 0: 4 spacings; infinity: exact everywhere
+  double outer_band = -1;  ///< outside the solid, exact where distance < outer_band; < 0: the same as band
+  /// Inside, deeper than the band: exact values on a lattice of at most this
+  /// many spacings (rounded down to a power of two), the rest interpolated
+  /// from it, so the deepest point is found within about a cell of this
+  /// size; 0: as coarse as the octree allows (up to ~1/8 of the box).
+  int inside_cell = 0;
   size_t max_samples = size_t(1) << 31;  ///< refuse larger grids (2^31 floats = 8 GiB)
   /// Called from the building thread with the fraction done (0..1); may be empty.
   std::function<void(double)> progress;
@@ -49,7 +61,8 @@ struct SdfStats {
   double seconds = 0;        ///< wall-clock build time
   size_t exact_queries = 0;  ///< grid points given an exact distance
   size_t parity_queries = 0; ///< grid points whose sign needed a ray vote
-  double band = 0;
+  double band = 0;        ///< inside the solid
+  double outer_band = 0;  ///< outside it
   int levels = 0;            ///< octree levels above the grid
 };
 

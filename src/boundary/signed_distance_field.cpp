@@ -43,8 +43,13 @@ class Bitset {
 
 class FieldBuilder {
  public:
-  FieldBuilder(const Boundary& boundary, ScalarGrid& grid, double band)
-      : boundary_(boundary), grid_(grid), band_(band), exact_(grid.size()) {}
+  FieldBuilder(const Boundary& boundary, ScalarGrid& grid, double inner_band, double outer_band, int inside_cell)
+      : boundary_(boundary),
+        grid_(grid),
+        inner_band_(inner_band),
+        outer_band_(outer_band),
+        inside_cell_(inside_cell),
+        exact_(grid.size()) {}
 
   void run(const std::function<void(double)>& progress, SdfStats& stats) {
     const int longest = std::max({grid_.dims[0], grid_.dims[1], grid_.dims[2]});
@@ -123,15 +128,22 @@ class FieldBuilder {
     return true;
   }
 
+  // The band on the side of a value's sign: outside (positive) or inside.
+  double band(bool positive) const { return positive ? outer_band_ : inner_band_; }
+  float band_float(bool positive) const { return static_cast<float>(std::min(band(positive), 1e30)); }
+
   // Deep value: trilinear in the corners (all of one sign), magnitude at
-  // least the band.
+  // least that side's band.
   float trilinear_outside_band(const std::array<float, 8>& v, double fx, double fy, double fz) const {
+    const double value = trilinear(v, fx, fy, fz);
+    return (v[0] > 0 ? 1.0f : -1.0f) * std::max(static_cast<float>(std::fabs(value)), band_float(v[0] > 0));
+  }
+
+  static double trilinear(const std::array<float, 8>& v, double fx, double fy, double fz) {
     const double x00 = v[0] + (v[1] - v[0]) * fx, x10 = v[2] + (v[3] - v[2]) * fx;
     const double x01 = v[4] + (v[5] - v[4]) * fx, x11 = v[6] + (v[7] - v[6]) * fx;
     const double y0 = x00 + (x10 - x00) * fy, y1 = x01 + (x11 - x01) * fy;
-    const double value = y0 + (y1 - y0) * fz;
-    const float band = static_cast<float>(std::min(band_, 1e30));
-    return (v[0] > 0 ? 1.0f : -1.0f) * std::max(static_cast<float>(std::fabs(value)), band);
+    return y0 + (y1 - y0) * fz;
   }
 
   // True when the corner distances prove that the whole cell lies farther
@@ -142,6 +154,7 @@ class FieldBuilder {
     const auto hi = upper(c, size);
     const auto v = corners(c, hi);
     const bool positive = v[0] > 0;
+    if (!positive && inside_cell_ > 0 && size > inside_cell_) return false;  // a finer lattice of exact values inside
     float lo = kFloatInf, top = 0;
     for (float x : v) {
       if ((x > 0) != positive || x == 0) return false;
@@ -151,7 +164,7 @@ class FieldBuilder {
     const double diagonal =
         grid_.spacing * std::sqrt(double(hi[0] - c.i) * (hi[0] - c.i) + double(hi[1] - c.j) * (hi[1] - c.j) +
                                   double(hi[2] - c.k) * (hi[2] - c.k));
-    return lo - 0.5 * diagonal >= band_ || top - diagonal >= band_;
+    return lo - 0.5 * diagonal >= band(positive) || top - diagonal >= band(positive);
   }
 
   // Trilinear values for the grid points the cell owns (its half-open index
@@ -164,7 +177,7 @@ class FieldBuilder {
     const int je = hi[1] == grid_.dims[1] - 1 ? hi[1] : hi[1] - 1;
     const int ke = hi[2] == grid_.dims[2] - 1 ? hi[2] : hi[2] - 1;
     const double sx = 1.0 / (hi[0] - c.i), sy = 1.0 / (hi[1] - c.j), sz = 1.0 / (hi[2] - c.k);
-    const float band = static_cast<float>(std::min(band_, 1e30));
+    const float least = band_float(v[0] > 0);
     for (int k = c.k; k <= ke; ++k) {
       const double fz = (k - c.k) * sz;
       for (int j = c.j; j <= je; ++j) {
@@ -176,7 +189,7 @@ class FieldBuilder {
         for (int i = c.i; i <= ie; ++i, ++index) {
           if (exact_.test(index)) continue;
           const double value = a + (b - a) * ((i - c.i) * sx);
-          grid_.values[index] = sign * std::max(static_cast<float>(std::fabs(value)), band);
+          grid_.values[index] = sign * std::max(static_cast<float>(std::fabs(value)), least);
         }
       }
     }
@@ -205,6 +218,8 @@ class FieldBuilder {
           if (exact_.test(index)) continue;
           exact_.set(index);
           double bound = HUGE_VAL, lower = 0;
+          const double fx = (i - c.i) / double(hi[0] - c.i), fy = (j - c.j) / double(hi[1] - c.j),
+                       fz = (k - c.k) / double(hi[2] - c.k);
           for (int n = 0; n < 8; ++n) {
             const double dx = (n & 1 ? hi[0] : c.i) - i, dy = (n & 2 ? hi[1] : c.j) - j,
                          dz = (n & 4 ? hi[2] : c.k) - k;
@@ -214,10 +229,8 @@ class FieldBuilder {
           }
           // On the last level nothing refines further, so a point proven
           // outside the band needs no exact value: interpolate it.
-          if (!children && lower >= band_ && same_sign(v)) {
-            grid_.values[index] = trilinear_outside_band(v, (i - c.i) / double(hi[0] - c.i),
-                                                         (j - c.j) / double(hi[1] - c.j),
-                                                         (k - c.k) / double(hi[2] - c.k));
+          if (!children && same_sign(v) && lower >= band(v[0] > 0)) {
+            grid_.values[index] = trilinear_outside_band(v, fx, fy, fz);
             continue;
           }
           pending.push_back({index, static_cast<float>(bound)});
@@ -260,7 +273,8 @@ class FieldBuilder {
 
   const Boundary& boundary_;
   ScalarGrid& grid_;
-  double band_;
+  double inner_band_, outer_band_;
+  int inside_cell_;  // largest deep cell inside, in spacings (0: any)
   Bitset exact_;
   size_t exact_queries_ = 0;
   std::atomic<size_t> parity_queries_{0};
@@ -289,8 +303,9 @@ ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOption
     throw Error("signed distance field: the spacing must be a positive finite number (got " + std::to_string(h) + ")");
   const double margin = options.margin < 0 ? 3 * h : options.margin;
   const double band = options.band < 0 ? 4 * h : options.band;
-  if (!std::isfinite(margin) || std::isnan(band))
-    throw Error("signed distance field: the margin must be finite and the band a number");
+  const double outer_band = options.outer_band < 0 ? band : options.outer_band;
+  if (!std::isfinite(margin) || std::isnan(band) || std::isnan(outer_band))
+    throw Error("signed distance field: the margin must be finite and the bands numbers");
 
   const Box3 box = boundary.mesh().bounds();
   ScalarGrid grid;
@@ -316,12 +331,13 @@ ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOption
   grid.values.assign(static_cast<size_t>(samples), 0.0f);
 
   SdfStats local;
-  FieldBuilder(boundary, grid, band).run(options.progress, local);
+  FieldBuilder(boundary, grid, band, outer_band, options.inside_cell).run(options.progress, local);
   local.dims = grid.dims;
   local.samples = grid.size();
   local.triangles = boundary.mesh().triangle_count();
   local.bytes = grid.bytes();
   local.band = band;
+  local.outer_band = outer_band;
   local.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (stats) *stats = local;
   return grid;

@@ -288,7 +288,10 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
               thousands(r.containment.moved).c_str());
   std::string passes;
   for (const PassStats& p : r.passes)
-    passes += (passes.empty() ? "" : ", ") + p.name + " " + thousands(p.steps) + " steps " + num(p.seconds, 3) + "s";
+    passes += (passes.empty() ? "" : ", ") + p.name + " " + thousands(p.steps) + " steps " + num(p.seconds, 3) + "s" +
+              (p.kernel_seconds >= 0  // PFILL_PROFILE=1
+                   ? " [kernels " + num(p.kernel_seconds, 3) + "s, transfers " + num(p.transfer_seconds, 3) + "s]"
+                   : std::string());
   std::printf("  time            %.1fs (field %.1fs; %s)\n", r.seconds, r.field_seconds, passes.c_str());
   if (r.peak_memory > 0)
     std::printf("  memory          peak %s MiB resident (the distance field %s MiB)\n",

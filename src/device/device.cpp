@@ -123,4 +123,43 @@ cl::Buffer Device::make_buffer(size_t bytes, const std::string& what, cl_mem_fla
 
 void Device::finish() { check_cl(queue_.finish(), "clFinish"); }
 
+void Device::note(const cl::Event& event, bool transfer) {
+  if (!profiling_ || event() == nullptr) return;
+  noted_.emplace_back(event, transfer);
+  if (noted_.size() >= 4096) fold(false);
+}
+
+// Adds the noted events' times to the totals: all of them (after waiting
+// for the queue) when `wait`, else the completed ones at the front (an
+// in-order queue completes them in order).
+void Device::fold(bool wait) {
+  if (wait) finish();
+  size_t done = 0;
+  for (; done < noted_.size(); ++done) {
+    const cl::Event& ev = noted_[done].first;
+    if (!wait) {
+      cl_int status = CL_QUEUED;
+      check_cl(ev.getInfo(CL_EVENT_COMMAND_EXECUTION_STATUS, &status), "clGetEventInfo");
+      if (status != CL_COMPLETE) break;
+    }
+    cl_ulong start = 0, end = 0;
+    check_cl(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &start), "clGetEventProfilingInfo");
+    check_cl(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo");
+    const double seconds = end > start ? static_cast<double>(end - start) * 1e-9 : 0.0;
+    if (noted_[done].second) {
+      totals_.transfer_seconds += seconds;
+      ++totals_.transfers;
+    } else {
+      totals_.kernel_seconds += seconds;
+      ++totals_.kernels;
+    }
+  }
+  noted_.erase(noted_.begin(), noted_.begin() + static_cast<std::ptrdiff_t>(done));
+}
+
+DeviceTimes Device::times() {
+  if (profiling_) fold(true);
+  return totals_;
+}
+
 }  // namespace pfill

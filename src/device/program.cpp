@@ -163,10 +163,13 @@ void launch(Device& device, Kernel& kernel, size_t items, cl::Event* event) {
   kernel.require_all_set();
   const size_t wg = kernel.work_group();
   const size_t global = std::max<size_t>(1, (items + wg - 1) / wg) * wg;
+  cl::Event own;  // a profiling device notes every launch (Device::times)
+  if (!event) event = device.profiled(own);
   check_cl(device.queue().enqueueNDRangeKernel(kernel.handle(), cl::NullRange, cl::NDRange(global), cl::NDRange(wg),
                                                nullptr, event),
            "clEnqueueNDRangeKernel", kernel.name() + " (" + std::to_string(global) + " items, work-group " +
                                          std::to_string(wg) + ")");
+  if (event) device.note(*event, false);
 }
 
 }  // namespace pfill

@@ -46,16 +46,22 @@ class DeviceArray {
   /// Elements from `first` on from the host.
   void write(size_t first, const std::vector<T>& values, bool blocking = true) {
     if (values.empty()) return;
+    cl::Event ev;
     check_cl(device_->queue().enqueueWriteBuffer(buffer_, blocking ? CL_TRUE : CL_FALSE, first * sizeof(T),
-                                                 values.size() * sizeof(T), values.data()),
+                                                 values.size() * sizeof(T), values.data(), nullptr,
+                                                 device_->profiled(ev)),
              "clEnqueueWriteBuffer", what_);
+    device_->note(ev, true);
   }
   /// The first `count` elements into `out` (resized).
   void read(size_t count, std::vector<T>& out, bool blocking = true) const {
     out.resize(count);
     if (count == 0) return;
-    check_cl(device_->queue().enqueueReadBuffer(buffer_, blocking ? CL_TRUE : CL_FALSE, 0, count * sizeof(T), out.data()),
+    cl::Event ev;
+    check_cl(device_->queue().enqueueReadBuffer(buffer_, blocking ? CL_TRUE : CL_FALSE, 0, count * sizeof(T), out.data(),
+                                                nullptr, device_->profiled(ev)),
              "clEnqueueReadBuffer", what_);
+    device_->note(ev, true);
   }
   std::vector<T> read(size_t count) const {
     std::vector<T> out;

@@ -52,13 +52,18 @@ void StepHistory::drain(uint64_t steps) {
   std::vector<float>& raw = staging_;
   raw.resize(cap * kRecord);
   const size_t first = read_ % cap, wrapped = std::min(count, cap - first);
+  cl::Event ev, ev2;
   check_cl(device_.queue().enqueueReadBuffer(history_, CL_FALSE, first * kRecord * sizeof(float),
-                                             wrapped * kRecord * sizeof(float), &raw[first * kRecord]),
+                                             wrapped * kRecord * sizeof(float), &raw[first * kRecord], nullptr,
+                                             device_.profiled(ev)),
            "clEnqueueReadBuffer", "history");
-  if (count > wrapped)
+  device_.note(ev, true);
+  if (count > wrapped) {
     check_cl(device_.queue().enqueueReadBuffer(history_, CL_FALSE, 0, (count - wrapped) * kRecord * sizeof(float),
-                                               raw.data()),
+                                               raw.data(), nullptr, device_.profiled(ev2)),
              "clEnqueueReadBuffer", "history");
+    device_.note(ev2, true);
+  }
   device_.finish();
   for (uint64_t s = read_; s < steps; ++s) {
     const float* r = &raw[(s % cap) * kRecord];

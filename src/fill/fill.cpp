@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <memory>
 
@@ -42,6 +43,13 @@ namespace {
 // 0.466 / 0.526); 1.5 r deleted a third of what it inserted.
 constexpr double kCompressClearance = 1.7;
 
+// PFILL_PROFILE=1 (any value but empty or 0): the fill's queue profiles
+// every command, and each pass reports its kernel and transfer time.
+bool profile_requested() {
+  const char* v = std::getenv("PFILL_PROFILE");
+  return v && *v && std::string(v) != "0";
+}
+
 class FillRun {
  public:
   /// `diagnostics`: diagnose(mesh), which the caller has already needed.
@@ -50,16 +58,35 @@ class FillRun {
 
   FillResult run() {
     prepare();
+    note_device_times();
     FillPasses passes(*engine_, o_, plan_, sites_, reporter_, result_);
     passes.pass1();
+    note_device_times();
     passes.pass2();
+    note_device_times();
     passes.settle();
+    note_device_times();
     finish(passes.next_id());
+    note_device_times();
     verify();
     return std::move(result_);
   }
 
  private:
+  // With a profiling device (PFILL_PROFILE=1): the device's time since the
+  // last call goes to the pass just ended (the first call only starts the
+  // count, past the field upload and the program builds).
+  void note_device_times() {
+    if (!device_ || !device_->profiling()) return;
+    const DeviceTimes now = device_->times();
+    if (device_times_noted_ && !result_.passes.empty()) {
+      result_.passes.back().kernel_seconds = now.kernel_seconds - device_times_.kernel_seconds;
+      result_.passes.back().transfer_seconds = now.transfer_seconds - device_times_.transfer_seconds;
+    }
+    device_times_ = now;
+    device_times_noted_ = true;
+  }
+
   // ---- plan, field, sites, engine ----
   void prepare() {
     check_fill_options(o_);  // a bad setting is the first thing to say
@@ -100,7 +127,7 @@ class FillRun {
     }
     result_.sites = sites_;
 
-    if (!o_.engine) device_ = std::make_unique<Device>(o_.device);
+    if (!o_.engine) device_ = std::make_unique<Device>(o_.device, profile_requested());
     result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
     if (device_) check_device_memory(*device_, plan_, stats.bytes);
     params_ = plan_engine_params(plan_, o_);
@@ -191,6 +218,8 @@ class FillRun {
   uint64_t next_id_ = 1;
   uint64_t relax_steps_ = 0;  ///< the finish's steps
   uint64_t fill_steps_ = 0;   ///< engine steps of passes 1 to the settle, kept once the engine is gone
+  DeviceTimes device_times_;  ///< the device's times at the last note_device_times()
+  bool device_times_noted_ = false;
   FillResult result_;
 };
 

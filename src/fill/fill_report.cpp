@@ -43,7 +43,13 @@ nlohmann::ordered_json radii_json(const FillResult& r) {
 nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& mesh, uint64_t seed,
                                         const std::string& output) {
   nlohmann::ordered_json passes = nlohmann::ordered_json::array();
-  for (const PassStats& p : r.passes) passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+  for (const PassStats& p : r.passes) {
+    passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+    if (p.kernel_seconds >= 0) {  // PFILL_PROFILE=1
+      passes.back()["kernel_seconds"] = p.kernel_seconds;
+      passes.back()["transfer_seconds"] = p.transfer_seconds;
+    }
+  }
   nlohmann::ordered_json sites = nlohmann::ordered_json::array();
   for (const BirthSite& s : r.sites)
     sites.push_back({{"position", {s.position.x, s.position.y, s.position.z}}, {"depth", s.depth}});

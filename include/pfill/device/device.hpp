@@ -38,6 +38,15 @@ extern const char* const kNoPlatformMessage;
 /// then the first device. Throws pfill::Error naming the spec if none matches.
 DeviceInfo choose_device(const std::string& spec = "");
 
+/// Device time of the commands a profiling Device has noted, by kind, since
+/// it opened (OpenCL event profiling: from each command's start to its end,
+/// so a blocking read's wait for the kernels before it is not counted).
+struct DeviceTimes {
+  double kernel_seconds = 0;    ///< kernel launches
+  double transfer_seconds = 0;  ///< reads and writes between host and device
+  uint64_t kernels = 0, transfers = 0;
+};
+
 /// An opened device: context and one in-order queue. Non-copyable, movable.
 class Device {
  public:
@@ -57,12 +66,26 @@ class Device {
   /// Blocks until every queued command is done.
   void finish();
 
+  /// With profiling: keeps `event` (of a command enqueued with it) so that
+  /// its time counts in times(); a kernel unless `transfer`. Completed
+  /// events are folded into the totals now and then, so the list stays
+  /// short. Without profiling: nothing.
+  void note(const cl::Event& event, bool transfer);
+  /// The event to pass to an enqueue, to note() after it: a fresh one with
+  /// profiling, else nullptr (no event made).
+  cl::Event* profiled(cl::Event& event) { return profiling_ ? &event : nullptr; }
+  /// Every noted command's time so far; waits for the queue to finish.
+  DeviceTimes times();
+
  private:
   DeviceInfo info_;
   cl::Device device_;
   cl::Context context_;
   cl::CommandQueue queue_;
   bool profiling_ = false;
+  std::vector<std::pair<cl::Event, bool>> noted_;  // not yet folded into totals_
+  DeviceTimes totals_;
+  void fold(bool wait);
 };
 
 }  // namespace pfill
