@@ -170,6 +170,7 @@ class LammpsEngine final : public ParticleEngine {
         throw Error("lammps engine: a particle at " + num(p.position.x) + "," + num(p.position.y) + "," +
                     num(p.position.z) + " lies outside the engine's box");
     }
+    drop_ghosts();
     const int before = nlocal();
     const int made = lammps_create_atoms(lmp_, n, tags.data(), types.data(), x.data(), v.data(), nullptr, 0);
     if (made != n)
@@ -399,6 +400,24 @@ class LammpsEngine final : public ParticleEngine {
   void command(const std::string& c) { lammps_command(lmp_, c.c_str()); }
 
   int nlocal() const { return *static_cast<int*>(lammps_extract_global(lmp_, "nlocal")); }
+
+  /// Forget this rank's ghost atoms before atoms are created through the
+  /// library. LAMMPS stores ghosts after the owned atoms (indices nlocal to
+  /// nlocal + nghost - 1), and `lammps_create_atoms` (LAMMPS 29 Sep 2021)
+  /// writes each new atom at index nlocal without dropping the ghosts first,
+  /// as the create_atoms command (and delete_atoms, and the exchange) do: the
+  /// new atoms overwrite ghosts, nlocal + nghost then reaches one slot past
+  /// the last one written for each new atom, and its map_set (and the next
+  /// exchange's map_clear) hash the tags found in those never written slots
+  /// (uninitialised memory from the arrays' realloc: negative tags index the hash's buckets out of
+  /// bounds, heap corruption at 2 ranks and more; one rank with `boundary f f f`
+  /// has no ghosts). The ghosts are rebuilt by the next `run pre yes` (a
+  /// birth marks the state dirty); lammps_create_atoms itself rebuilds the
+  /// atom map (map_init, map_set) from the owned atoms.
+  void drop_ghosts() {
+    if (!box_made_) return;
+    *static_cast<int*>(lammps_extract_global(lmp_, "nghost")) = 0;
+  }
 
   /// The box LAMMPS decomposes: the field's box (or the given one) and a margin.
   void make_box(const Box3& inner) {
