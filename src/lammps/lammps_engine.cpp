@@ -16,6 +16,7 @@
 #ifdef PFILL_WITH_LAMMPS
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <memory>
 #include <sstream>
@@ -88,6 +89,14 @@ class LammpsEngine final : public ParticleEngine {
     flush();
     const size_t first = book_.size();
     if (ps.empty()) return first;
+    // Refused here, on every rank alike, before LAMMPS sees them (its box
+    // from the particles, or create_atoms, would stop the program).
+    for (const Particle& p : ps) {
+      const Vec3 &x = p.position, &u = p.velocity;
+      if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z) || !std::isfinite(u.x) ||
+          !std::isfinite(u.y) || !std::isfinite(u.z))
+        throw Error("lammps engine: a particle's position or velocity is not a finite number");
+    }
     if (!box_made_) {
       Box3 b;
       for (const Particle& p : ps) b.add(p.position);
@@ -239,6 +248,12 @@ class LammpsEngine final : public ParticleEngine {
   /// margin; then the potential, the lists and the callback's fix.
   void make_box(const Box3& inner) {
     const EngineConstants& c = constants_;
+    const double in_lo[3] = {inner.lo.x, inner.lo.y, inner.lo.z}, in_hi[3] = {inner.hi.x, inner.hi.y, inner.hi.z};
+    for (int a = 0; a < 3; ++a)
+      if (!std::isfinite(in_lo[a]) || !std::isfinite(in_hi[a]) || in_lo[a] > in_hi[a])
+        throw Error("lammps engine: the domain " + num(in_lo[0]) + "," + num(in_lo[1]) + "," + num(in_lo[2]) +
+                    " to " + num(in_hi[0]) + "," + num(in_hi[1]) + "," + num(in_hi[2]) +
+                    " is not a box (finite, lo <= hi on each axis)");
     const Vec3 s = inner.size();
     const double margin = 2 * c.list_reach + 1e-3 * std::max({s.x, s.y, s.z});
     const Vec3 lo = inner.lo - Vec3{margin, margin, margin}, hi = inner.hi + Vec3{margin, margin, margin};
@@ -282,6 +297,7 @@ class LammpsEngine final : public ParticleEngine {
     pair_line_ += " + pfill's contact dashpot in the callback";
     cmd << "pair_modify shift yes\n";
     const double skin = (params_.skin_sigma > 0 ? params_.skin_sigma : kCpuFormSkinSigma) * c.sigma;
+    refuse_too_many_bins(hi - lo, rc + skin);
     cmd << "neighbor " << num(skin) << " bin\nneigh_modify delay 0 every 1 check yes\n"
         << "fix pf_step all external pf/callback 1 1\n"
         << "timestep " << num(c.dt) << "\n"
@@ -290,6 +306,26 @@ class LammpsEngine final : public ParticleEngine {
     lmp_->commands(cmd.str());
     step_.install("pf_step");
     box_made_ = true;
+  }
+
+  /// LAMMPS bins each rank's sub-domain (and its ghost shell) for the
+  /// lists at half the list's reach, and stops the program past 2^31 - 1
+  /// bins on a rank ("Too many neighbor bins", unseen under -screen none).
+  /// The sub-domains tile the box, so some rank has at least the box's
+  /// bins over P: past the limit, that rank would stop. Refused here in one
+  /// line instead (a box far larger than the spheres: about 3e8 spheres in
+  /// a mesh's box at P = 1).
+  void refuse_too_many_bins(const Vec3& size, double reach) const {
+    const double bin = 0.5 * reach;
+    const double bins = std::floor(size.x / bin) * std::floor(size.y / bin) * std::floor(size.z / bin);
+    const double per_rank = bins / lmp_->ranks();
+    if (per_rank > 2147483647.0) {
+      char b[64];
+      std::snprintf(b, sizeof b, "%.3g", per_rank);
+      throw Error("lammps engine: the box would need " + std::string(b) +
+                  " neighbour-list bins a rank, past LAMMPS' limit of 2^31 - 1; use more MPI ranks, or larger "
+                  "spheres (fewer of them) for this mesh");
+    }
   }
 
   void field_changed(const ScalarGrid& f) {
@@ -309,13 +345,17 @@ class LammpsEngine final : public ParticleEngine {
       lmp_->command("balance 1.05 shift xyz 10 1.02");
       balanced_at_ = static_cast<double>(book_.size());
     }
-    step_.set_run_start(steps_);
     // `pre no` skips the set-up (re-neighbouring, ghost exchange) when
-    // nothing but the steps changed the atoms since the last run.
-    lmp_->command("run " + std::to_string(pending_) + " pre " + (dirty_ ? "yes" : "no") + " post no");
-    steps_ += pending_;
-    pending_ = 0;
-    dirty_ = false;
+    // nothing but the steps changed the atoms since the last run. LAMMPS
+    // stops the program at `run N` past N = 2^31 - 1: longer waits run in pieces.
+    while (pending_ > 0) {
+      const size_t k = std::min<size_t>(pending_, 2147483647);
+      step_.set_run_start(steps_);
+      lmp_->command("run " + std::to_string(k) + " pre " + (dirty_ ? "yes" : "no") + " post no");
+      steps_ += k;
+      pending_ -= k;
+      dirty_ = false;
+    }
   }
 
   bool inside_box(const Vec3& p) const {

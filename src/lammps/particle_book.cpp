@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <limits>
 #include <string>
 
 #include "pfill/error.hpp"
@@ -11,8 +12,13 @@ namespace pfill {
 namespace lammps_engine {
 
 std::vector<int> ParticleBook::new_tags(size_t n) {
+  // LAMMPS' atom ids are 32-bit in this build (tagint int): past 2^31 - 1
+  // ids it would stop the program; the fill births more than it keeps.
+  const int64_t last = next_tag_ + static_cast<int64_t>(n) - 1;
+  if (last > std::numeric_limits<int>::max())
+    throw Error("lammps engine: more than 2,147,483,647 particles born over the fill, past LAMMPS' 32-bit atom ids");
   std::vector<int> tags(n);
-  for (int& t : tags) t = next_tag_++;
+  for (int& t : tags) t = static_cast<int>(next_tag_++);
   return tags;
 }
 

@@ -17,7 +17,8 @@ namespace lammps_engine {
 
 class ParticleBook {
  public:
-  /// n new tags, consecutive, never given before.
+  /// n new tags, consecutive, never given before; throws pfill::Error past
+  /// LAMMPS' largest id (2^31 - 1).
   std::vector<int> new_tags(size_t n);
   /// The next index: the particle with this tag and caller's id.
   void append(int tag, uint64_t id);
@@ -41,7 +42,7 @@ class ParticleBook {
   std::vector<int> order_;                // index -> LAMMPS tag
   std::vector<uint64_t> ids_;             // index -> the caller's id
   std::unordered_map<int, size_t> index_of_;
-  int next_tag_ = 1;
+  int64_t next_tag_ = 1;
   std::unordered_set<int> lost_;
 };
 
