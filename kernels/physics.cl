@@ -1,8 +1,9 @@
 /* physics.cl: the pair potential, the contact response and the boundary
  * field sampling as small stateless functions. Shared word for word by the
  * OpenCL kernels (PF_REAL = float, built before the step files) and by the
- * double-precision C++ reference (src/engine/reference.cpp includes this
- * file with PF_REAL = double), so the oracle tests compare one formula.
+ * double-precision host code (kernels/physics_double.hpp includes this
+ * file with PF_REAL = double for the C++ reference engine and the LAMMPS
+ * engine's step), so the oracle tests compare one formula.
  * Compiles on its own as OpenCL C 1.2. */
 #ifndef PF_REAL
 #define PF_REAL float

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <memory>
 #include <random>
 #include <string>
@@ -193,6 +194,39 @@ TEST_CASE("lammps engine: births, removals, flags and ids as the reference keeps
   CHECK(worst < 1e-9);
   std::vector<size_t> order = lmp->sort_by_cells();
   CHECK(order.size() == a.size());
+}
+
+TEST_CASE("lammps engine: what LAMMPS would stop the program on is refused first, in one line") {
+  // LAMMPS (Debian's, no C++ exceptions) exits on an error, silently under
+  // -screen none: the engine refuses these before handing them over, on
+  // every rank alike, so the fill's one-line error says why.
+  if (!lammps_available()) return;
+  SUBCASE("a domain that is no box") {
+    EngineParams p = small_params();
+    p.domain = Box3{{-1, -1, -1}, {1, std::numeric_limits<double>::infinity(), 1}};
+    CHECK_THROWS_WITH_AS(make_lammps_engine(p), doctest::Contains("is not a box"), Error);
+    p.domain = Box3{{-1, 1, -1}, {1, -1, 1}};  // lo > hi on y only (Box3::empty looks at x)
+    CHECK_THROWS_WITH_AS(make_lammps_engine(p), doctest::Contains("is not a box"), Error);
+  }
+  SUBCASE("a box far larger than the spheres: too many neighbour-list bins") {
+    EngineParams p = small_params();
+    p.radius = 1e-4;
+    p.max_radius = p.radius * (1 + 1e-6);
+    p.domain = Box3{{-1, -1, -1}, {1, 1, 1}};  // (2 / 1.4e-4)^3 ~ 3e12 bins
+    CHECK_THROWS_WITH_AS(make_lammps_engine(p), doctest::Contains("neighbour-list bins"), Error);
+  }
+  SUBCASE("a particle not at a finite place") {
+    std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(small_params());
+    Particle q;
+    q.radius = 0.05;
+    q.position = {0, std::nan(""), 0};
+    CHECK_THROWS_WITH_AS(lmp->add_particles({q}), doctest::Contains("not a finite number"), Error);
+    CHECK(lmp->size() == 0);
+    q.position = {0, 0, 0};  // the engine still works after the refusal
+    CHECK(lmp->add_particles({q}) == 0);
+    lmp->run_steps(2);
+    CHECK(lmp->read_particles().size() == 1);
+  }
 }
 
 TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {

@@ -1,5 +1,5 @@
 // The double-precision oracle of the engine step: the same formulas
-// (kernels/physics.cl, included below with PF_REAL = double) and the same
+// (kernels/physics.cl in double precision: kernels/physics_double.hpp) and the same
 // order of operations as the kernels (kernels/*_step.cl), with brute-force pairs.
 #include "pfill/engine/reference.hpp"
 
@@ -7,51 +7,11 @@
 #include <functional>
 #include <string>
 #include <utility>
-#include <cmath>
-#include <math.h>
 
 #include "pfill/error.hpp"
+#include "../../kernels/physics_double.hpp"
 
 namespace pfill {
-namespace physics {
-// What physics.cl needs from OpenCL C, in double precision.
-inline int min(int a, int b) { return a < b ? a : b; }
-template <class T>
-inline T select(T a, T b, int c) {
-  return c ? b : a;
-}
-using ::floor;
-using ::fma;
-using ::fmax;
-using ::fmin;
-using ::pow;
-using ::sqrt;
-#define PF_REAL double
-#define PF_FN inline
-#define PF_GLOBAL
-#include "../../kernels/physics.cl"
-#undef PF_REAL
-#undef PF_FN
-#undef PF_GLOBAL
-}  // namespace physics
-
-namespace {
-
-double sample(const ScalarGrid& f, double x, double y, double z, double* g) {
-  return physics::pf_sdf_sample(f.values.data(), f.dims[0], f.dims[1], f.dims[2], f.origin.x, f.origin.y, f.origin.z,
-                                1 / f.spacing, x, y, z, g);
-}
-
-// physics.cl's wall push, in double precision.
-using physics::select;
-using physics::pf_wall_velocity_change;
-#define PF_FN inline
-#define PF_WALL_ITERATIONS kWallIterations
-#define PF_SAMPLE_REF(PX, PY, PZ, G) sample(field, PX, PY, PZ, G)
-PF_DEFINE_WALL_PUSH(wall_push, double, int, PF_ANY1, PF_SAMPLE_REF, pf_wall_velocity_change, const ScalarGrid& field)
-#undef PF_FN
-
-}  // namespace
 
 ReferenceEngine::ReferenceEngine(const EngineParams& params) : params_(params), constants_(derive_constants(params)) {}
 
@@ -148,7 +108,7 @@ StepRecord ReferenceEngine::step() {
                            c.damping_factor, c.max_speed);
     if (has_field_) {
       double g[3];
-      double phi = sample(field_, x.x, x.y, x.z, g);
+      double phi = physics::sample(field_, x.x, x.y, x.z, g);
       const Vec3 gp = (x - field_.origin) / field_.spacing;
       const bool outside_box = gp.x < 0 || gp.y < 0 || gp.z < 0 || gp.x > field_.dims[0] - 1 ||
                                gp.y > field_.dims[1] - 1 || gp.z > field_.dims[2] - 1;
@@ -156,7 +116,7 @@ StepRecord ReferenceEngine::step() {
         ++rec.flagged;
         flags_[i] = true;
       }
-      wall_push(&x.x, &x.y, &x.z, &u.x, &u.y, &u.z, phi, g, phi > -pi.radius, pi.radius, params_.wall_restitution,
+      physics::wall_push(&x.x, &x.y, &x.z, &u.x, &u.y, &u.z, phi, g, phi > -pi.radius, pi.radius, params_.wall_restitution,
                 field_);
     }
     next[i].position = x;

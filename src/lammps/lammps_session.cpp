@@ -1,0 +1,101 @@
+// The LAMMPS instance of the LAMMPS engine: see lammps_session.hpp.
+#ifdef PFILL_WITH_LAMMPS
+#include "lammps/lammps_session.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <cstdlib>
+
+#include "pfill/error.hpp"
+
+namespace pfill {
+namespace lammps_engine {
+namespace {
+
+void finalize_mpi() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
+
+}  // namespace
+
+void ensure_mpi() {
+  int initialized = 0;
+  MPI_Initialized(&initialized);
+  if (initialized) return;
+  int provided = 0;
+  MPI_Init_thread(nullptr, nullptr, MPI_THREAD_FUNNELED, &provided);
+  std::atexit(finalize_mpi);
+}
+
+std::string num(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.17g", v);
+  return b;
+}
+
+LammpsSession::LammpsSession() {
+  ensure_mpi();
+  comm_ = MPI_COMM_WORLD;
+  MPI_Comm_rank(comm_, &rank_);
+  MPI_Comm_size(comm_, &ranks_);
+  const char* args[] = {"pfill", "-log", "none", "-screen", "none", "-nocite"};
+  lmp_ = lammps_open(6, const_cast<char**>(args), comm_, nullptr);
+  if (!lmp_) throw Error("LAMMPS could not be started");
+}
+
+LammpsSession::~LammpsSession() {
+  if (lmp_) lammps_close(lmp_);
+}
+
+int LammpsSession::create_atoms(const std::vector<int>& tags, const std::vector<double>& x,
+                                const std::vector<double>& v) {
+  std::vector<int> types(tags.size(), 1);
+  drop_ghosts();
+  return lammps_create_atoms(lmp_, static_cast<int>(tags.size()), tags.data(), types.data(), x.data(), v.data(),
+                             nullptr, 0);
+}
+
+/// Forget this rank's ghost atoms before atoms are created through the
+/// library. LAMMPS stores ghosts after the owned atoms (indices nlocal to
+/// nlocal + nghost - 1), and `lammps_create_atoms` (LAMMPS 29 Sep 2021)
+/// writes each new atom at index nlocal without dropping the ghosts first,
+/// as the create_atoms command (and delete_atoms, and the exchange) do: the
+/// new atoms overwrite ghosts, nlocal + nghost then reaches one slot past
+/// the last one written for each new atom, and its map_set (and the next
+/// exchange's map_clear) hash the ids found in those slots (uninitialised
+/// memory from the arrays' realloc: a negative id indexes the hash's buckets
+/// out of bounds, the heap corruption once seen at 2 ranks; one rank with
+/// `boundary f f f` has no ghosts). The ghosts are rebuilt by the next
+/// `run pre yes` (a birth always makes the next run set up again);
+/// lammps_create_atoms itself rebuilds the atom map (map_init, map_set)
+/// from the owned atoms.
+void LammpsSession::drop_ghosts() { *static_cast<int*>(lammps_extract_global(lmp_, "nghost")) = 0; }
+
+void LammpsSession::delete_atoms(const std::vector<int>& tags) {
+  // A group of the ids (in commands of a few hundred), deleted without
+  // renumbering: the engine's tags stay.
+  for (size_t k = 0; k < tags.size(); k += 400) {
+    std::string cmd = "group pf_gone id";
+    for (size_t j = k; j < std::min(tags.size(), k + 400); ++j) cmd += " " + std::to_string(tags[j]);
+    command(cmd);
+  }
+  command("delete_atoms group pf_gone compress no");
+  command("group pf_gone delete");
+}
+
+std::vector<double> LammpsSession::gather(const std::vector<double>& mine) const {
+  if (ranks_ == 1) return mine;
+  int n = static_cast<int>(mine.size());
+  std::vector<int> counts(static_cast<size_t>(ranks_)), offsets(static_cast<size_t>(ranks_), 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
+  for (int r = 1; r < ranks_; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<double> all(static_cast<size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm_);
+  return all;
+}
+
+}  // namespace lammps_engine
+}  // namespace pfill
+#endif

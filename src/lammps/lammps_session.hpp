@@ -1,0 +1,78 @@
+// One LAMMPS instance on MPI_COMM_WORLD, as the LAMMPS engine drives it
+// (docs/lammps_engine.md): MPI started once, the instance opened and
+// closed, commands, this rank's per-atom arrays, atoms created and deleted
+// by tag, and the one collective the engine's reads need (a gather of every
+// rank's values to every rank). The only header of pfill that includes
+// mpi.h and LAMMPS' library.h (with LAMMPS_LIB_MPI and OMPI_SKIP_MPICXX).
+#pragma once
+#ifdef PFILL_WITH_LAMMPS
+#define LAMMPS_LIB_MPI 1
+#ifndef OMPI_SKIP_MPICXX
+#define OMPI_SKIP_MPICXX 1
+#endif
+#include <mpi.h>
+#include <library.h>
+
+#include <string>
+#include <vector>
+
+namespace pfill {
+namespace lammps_engine {
+
+/// MPI_Init_thread unless MPI runs already (then MPI_Finalize at exit).
+void ensure_mpi();
+
+/// v with all 17 digits, for a LAMMPS command.
+std::string num(double v);
+
+class LammpsSession {
+ public:
+  /// Starts MPI if needed and opens LAMMPS on MPI_COMM_WORLD (no log, no screen).
+  LammpsSession();
+  ~LammpsSession();
+  LammpsSession(const LammpsSession&) = delete;
+  LammpsSession& operator=(const LammpsSession&) = delete;
+
+  void* handle() const { return lmp_; }
+  MPI_Comm comm() const { return comm_; }
+  int rank() const { return rank_; }
+  int ranks() const { return ranks_; }
+  int version() const { return lammps_version(lmp_); }
+
+  void command(const std::string& c) { lammps_command(lmp_, c.c_str()); }
+  void commands(const std::string& lines) { lammps_commands_string(lmp_, lines.c_str()); }
+
+  /// The number of atoms this rank owns.
+  int nlocal() const { return *static_cast<int*>(lammps_extract_global(lmp_, "nlocal")); }
+  /// The atoms on all ranks, as LAMMPS counts them.
+  double natoms() const { return lammps_get_natoms(lmp_); }
+  /// This rank's per-atom array `name` ("id", "x", "v", "radius", ...), owned atoms first.
+  template <class T>
+  T atoms(const char* name) const {
+    return static_cast<T>(lammps_extract_atom(lmp_, name));
+  }
+
+  /// n atoms of type 1 with the given tags, positions and velocities (3 n
+  /// each); every rank passes the same and keeps those in its sub-domain.
+  /// Returns how many were created over all ranks. The new atoms this rank
+  /// owns are its indices [nlocal before, nlocal after).
+  int create_atoms(const std::vector<int>& tags, const std::vector<double>& x, const std::vector<double>& v);
+
+  /// Deletes the atoms with these tags (on whichever rank owns them), without
+  /// renumbering the others (`delete_atoms ... compress no`).
+  void delete_atoms(const std::vector<int>& tags);
+
+  /// Every rank's `mine`, in rank order, on every rank.
+  std::vector<double> gather(const std::vector<double>& mine) const;
+
+ private:
+  void drop_ghosts();
+
+  void* lmp_ = nullptr;
+  MPI_Comm comm_;
+  int rank_ = 0, ranks_ = 1;
+};
+
+}  // namespace lammps_engine
+}  // namespace pfill
+#endif

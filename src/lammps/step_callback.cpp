@@ -1,0 +1,160 @@
+// The LAMMPS engine's step callback: see step_callback.hpp.
+#ifdef PFILL_WITH_LAMMPS
+#include "lammps/step_callback.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "../../kernels/physics_double.hpp"
+
+namespace pfill {
+namespace lammps_engine {
+
+void StepCallback::install(const char* fix_id) {
+  lammps_set_fix_external_callback(
+      session_.handle(), fix_id,
+      [](void* self, int64_t step, int n, int* ids, double** x, double** f) {
+        static_cast<StepCallback*>(self)->on_step(step, n, ids, x, f);
+      },
+      this);
+}
+
+void StepCallback::set_clamp(const double lo[3], const double hi[3]) {
+  for (int a = 0; a < 3; ++a) lo_[a] = lo[a], hi_[a] = hi[a];
+}
+
+void StepCallback::set_field(const ScalarGrid* field, bool atoms_exist) {
+  field_ = field;
+  const ScalarGrid& f = *field;
+  // The trilinear interpolant's slope is at most the norm of the largest
+  // sample differences along x, y, z over the spacing.
+  double dmax[3] = {0, 0, 0};
+  for (int k = 0; k < f.dims[2]; ++k)
+    for (int j = 0; j < f.dims[1]; ++j)
+      for (int i = 0; i < f.dims[0]; ++i) {
+        const double v = f.at(i, j, k);
+        if (i + 1 < f.dims[0]) dmax[0] = std::max(dmax[0], std::fabs(f.at(i + 1, j, k) - v));
+        if (j + 1 < f.dims[1]) dmax[1] = std::max(dmax[1], std::fabs(f.at(i, j + 1, k) - v));
+        if (k + 1 < f.dims[2]) dmax[2] = std::max(dmax[2], std::fabs(f.at(i, j, k + 1) - v));
+      }
+  lipschitz_ = 1.0001 * std::sqrt(dmax[0] * dmax[0] + dmax[1] * dmax[1] + dmax[2] * dmax[2]) / f.spacing;
+  // Bounds kept from another field mean nothing: every atom samples the new one first.
+  if (atoms_exist && session_.nlocal() > 0) {
+    double** omega = session_.atoms<double**>("omega");
+    for (int i = 0; i < session_.nlocal(); ++i) omega[i][0] = 0;
+  }
+}
+
+std::vector<LocalRecord> StepCallback::take_history() { return std::exchange(local_history_, {}); }
+
+void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, double** fext) {
+  for (int i = 0; i < nlocal; ++i) fext[i][0] = fext[i][1] = fext[i][2] = 0;
+  // `run` calls the fixes' setup too (post_force at the run's first
+  // step number): that is no step.
+  if (step <= static_cast<int64_t>(run_start_)) return;
+  const EngineConstants& c = constants_;
+  double** f = session_.atoms<double**>("f");
+  double** v = session_.atoms<double**>("v");
+  double* radius = session_.atoms<double*>("radius");
+  double* rmass = session_.atoms<double*>("rmass");
+  double** omega = session_.atoms<double**>("omega");
+  LocalRecord rec;
+  rec.particles = nlocal;
+  rec.colliding_pairs = contacts(nlocal, x, v, radius, rmass);
+  const ScalarGrid* field = field_;
+  for (int i = 0; i < nlocal; ++i) {
+    double u[3] = {v[i][0], v[i][1], v[i][2]};
+    double p[3] = {x[i][0], x[i][1], x[i][2]};
+    const double p0[3] = {p[0], p[1], p[2]};
+    const double* fd = &dashpot_[3 * static_cast<size_t>(i)];
+    physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], f[i][0] + fd[0], f[i][1] + fd[1],
+                           f[i][2] + fd[2], 1 / rmass[i], c.dt, c.damping_factor, c.max_speed);
+    // omega[i][0] (rotation is not integrated) keeps a bound on the
+    // field's value at the atom: its last sample plus the field's slope
+    // times the moves since. While that bound says the sphere cannot reach
+    // the wall, the field is not read (at N = 16,000 on 1 rank, reading it
+    // for every atom was half of a step: cache misses in a 57 MiB grid);
+    // the result is the same, as the push and the flag need phi > -r.
+    const double moved_bound = omega[i][0] + lipschitz_ * std::sqrt((p[0] - p0[0]) * (p[0] - p0[0]) +
+                                                                   (p[1] - p0[1]) * (p[1] - p0[1]) +
+                                                                   (p[2] - p0[2]) * (p[2] - p0[2]));
+    if (field && moved_bound < -radius[i]) {
+      omega[i][0] = moved_bound;
+    } else if (field) {
+      double g[3];
+      const double phi = physics::sample(*field, p[0], p[1], p[2], g);
+      const double gx = (p[0] - field->origin.x) / field->spacing, gy = (p[1] - field->origin.y) / field->spacing,
+                   gz = (p[2] - field->origin.z) / field->spacing;
+      const bool outside_box = gx < 0 || gy < 0 || gz < 0 || gx > field->dims[0] - 1 || gy > field->dims[1] - 1 ||
+                               gz > field->dims[2] - 1;
+      if (phi > 0 || outside_box) {
+        ++rec.flagged;
+        flagged_tags_.insert(tags[i]);
+      }
+      const double after = physics::wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius[i],
+                                              radius[i], params_.wall_restitution, *field);
+      omega[i][0] = after;
+    }
+    // Never past the box (LAMMPS would lose the atom): the wall brings it back.
+    for (int a = 0; a < 3; ++a) p[a] = std::min(std::max(p[a], lo_[a]), hi_[a]);
+    x[i][0] = p[0], x[i][1] = p[1], x[i][2] = p[2];
+    v[i][0] = u[0], v[i][1] = u[1], v[i][2] = u[2];
+    rec.kinetic_energy += 0.5 * rmass[i] * (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+    rec.max_speed = std::max(rec.max_speed, std::sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]));
+    const double d[3] = {p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]};
+    rec.max_displacement = std::max(rec.max_displacement, std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
+  }
+  local_history_.push_back(rec);
+}
+
+/// Over this rank's pair list (the pair style's, `newton off`: a pair
+/// with a ghost is listed on both its ranks): the contact dashpot of
+/// physics.cl on this rank's atoms into dashpot_, and the pairs whose
+/// spheres overlap (d < r_i + r_j; a pair with a ghost counts half, so
+/// the sum over ranks counts it once). Positions and velocities are the
+/// step's start (ghosts' from this step's communication).
+double StepCallback::contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
+  dashpot_.assign(3 * static_cast<size_t>(nlocal), 0.0);
+  void* lmp = session_.handle();
+  const int list = lammps_find_pair_neighlist(lmp, pair_style_.c_str(), 1, 0, 0);
+  if (list < 0) return 0;
+  const EngineConstants& c = constants_;
+  const double contact2 = c.contact_distance * c.contact_distance;
+  const bool damp = c.dashpot > 0;
+  const int n = lammps_neighlist_num_elements(lmp, list);
+  double count = 0;
+  for (int e = 0; e < n; ++e) {
+    int i = 0, nn = 0;
+    int* neigh = nullptr;
+    lammps_neighlist_element_neighbors(lmp, list, e, &i, &nn, &neigh);
+    if (i >= nlocal) continue;
+    const double* xi = x[i];
+    for (int k = 0; k < nn; ++k) {
+      const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
+      const double dx = xi[0] - x[j][0], dy = xi[1] - x[j][1], dz = xi[2] - x[j][2];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      const double rs = radius[i] + radius[j];
+      if (d2 >= std::max(rs * rs, contact2)) continue;
+      const bool mine = j < nlocal;
+      if (d2 < rs * rs) count += mine ? 1 : 0.5;
+      if (!damp || !(d2 > 0)) continue;
+      const double inv_d = 1 / std::sqrt(d2);
+      const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
+      const double un = (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
+      // equal radii: the pair scale is 1 (unequal radii on LAMMPS: not yet)
+      const double cd = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0);
+      double* fi = &dashpot_[3 * static_cast<size_t>(i)];
+      fi[0] += cd * nx, fi[1] += cd * ny, fi[2] += cd * nz;
+      if (mine) {
+        double* fj = &dashpot_[3 * static_cast<size_t>(j)];
+        fj[0] -= cd * nx, fj[1] -= cd * ny, fj[2] -= cd * nz;
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace lammps_engine
+}  // namespace pfill
+#endif

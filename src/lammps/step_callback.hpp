@@ -1,0 +1,73 @@
+// The LAMMPS engine's step (docs/lammps_engine.md "The physics, mapped onto
+// LAMMPS"): the callback of `fix external pf/callback`, called at
+// post_force with LAMMPS' pair forces of the step in atom->f, runs pfill's
+// own rules (kernels/physics.cl in double precision) on this rank's atoms:
+// the contact dashpot over the pair style's neighbour list, the kick and
+// drift with the damping and the speed cap, the wall's push from the signed
+// distance field, and the per-step records of this rank.
+#pragma once
+#ifdef PFILL_WITH_LAMMPS
+#include <cstdint>
+#include <string>
+#include <unordered_set>
+#include <vector>
+
+#include "lammps/lammps_session.hpp"
+#include "pfill/engine/params.hpp"
+#include "pfill/grid.hpp"
+
+namespace pfill {
+namespace lammps_engine {
+
+/// The per-step scalars of one rank, reduced over ranks when read.
+struct LocalRecord {
+  double kinetic_energy = 0, max_speed = 0, max_displacement = 0;
+  double colliding_pairs = 0, flagged = 0, particles = 0;
+};
+
+class StepCallback {
+ public:
+  StepCallback(const EngineParams& params, const EngineConstants& constants, LammpsSession& session)
+      : params_(params), constants_(constants), session_(session) {}
+  StepCallback(const StepCallback&) = delete;
+  StepCallback& operator=(const StepCallback&) = delete;
+
+  /// Hands this object to the fix external `fix_id` as its callback.
+  void install(const char* fix_id);
+  /// Atoms are clamped into [lo, hi] after each step (LAMMPS drops atoms past its box).
+  void set_clamp(const double lo[3], const double hi[3]);
+  /// The pair style whose neighbour list the dashpot walks ("lj/cut", "mie/cut").
+  void set_pair_style(const std::string& name) { pair_style_ = name; }
+  /// The field of the wall (null: no wall); with `atoms_exist`, this rank's
+  /// atoms' kept bounds on the field are reset, so each samples the new one.
+  void set_field(const ScalarGrid* field, bool atoms_exist);
+  const ScalarGrid* field() const { return field_; }
+  /// The step number a `run` starts at: its set-up calls the callback at that step, which is no step.
+  void set_run_start(uint64_t step) { run_start_ = step; }
+
+  /// This rank's records since the last call.
+  std::vector<LocalRecord> take_history();
+  /// This rank's atoms flagged outside since they were last cleared.
+  std::unordered_set<int>& flagged_tags() { return flagged_tags_; }
+
+  void on_step(int64_t step, int nlocal, int* tags, double** x, double** fext);
+
+ private:
+  double contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass);
+
+  const EngineParams& params_;
+  const EngineConstants& constants_;
+  LammpsSession& session_;
+  std::string pair_style_ = "lj/cut";
+  const ScalarGrid* field_ = nullptr;
+  double lipschitz_ = 2;  // the field interpolant's largest slope
+  double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0};
+  uint64_t run_start_ = 0;
+  std::vector<LocalRecord> local_history_;
+  std::vector<double> dashpot_;           // the contact dashpot's force on each of this rank's atoms, this step
+  std::unordered_set<int> flagged_tags_;  // this rank's atoms flagged outside since clear_flags
+};
+
+}  // namespace lammps_engine
+}  // namespace pfill
+#endif
