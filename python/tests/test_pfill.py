@@ -265,7 +265,7 @@ def test_one_name_per_setting_in_the_cli_python_and_the_docs():
 def test_the_short_help_lists_the_users_options_only():
     out = subprocess.run([CLI, "fill", "--help"], capture_output=True, text=True, check=True).stdout
     options = [line for line in out.splitlines() if line.lstrip().startswith("-")]
-    assert len(options) <= 27  # 25, and the two of unequal spheres (--radii, --radii-by)
+    assert len(options) <= 26  # 25, and --radii (--radii-by is in --help-all)
     assert "--max-overlap" in out and "--patience" not in out
 
 

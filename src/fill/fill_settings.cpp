@@ -172,8 +172,9 @@ std::vector<FillSetting> make_table() {
       radii_setting("radii", T::User,
                     "Unequal spheres: uniform:MIN,MAX | lognormal:MEDIAN,SIGMA (sigma of ln r) | normal:MEAN,STD "
                     "(both cut at 3 sigma) | discrete:R1:F1,R2:F2,... | FILE.csv (radius, cumulative volume "
-                    "fraction); fractions by number except a CSV's; with -n the radii are relative"),
-      radii_by_setting("radii_by", T::User, "What discrete:... fractions are: number (default) or volume"),
+                    "fraction); discrete fractions by number (--radii-by volume: by volume), a CSV's by volume; with -n "
+                    "the radii are relative"),
+      radii_by_setting("radii_by", T::Tuning, "What discrete:... fractions are: number (default) or volume"),
       real(FIELD(max_overlap), T::User,
            "Largest overlap of any pair after the fill, a fraction of r (of the smaller radius) (0: none)"),
       real(FIELD(rest_distance), T::User,
