@@ -268,11 +268,17 @@ class Finisher {
       touching[o.i].push_back(o.j);
       touching[o.j].push_back(o.i);
     }
+    // Unequal spheres: the volume a sphere must give up, r_i^2 r_min need_i
+    // (need_i a share of the smallest radius), counted in spheres of the
+    // distribution's mean volume, as the deletions keep to it (counted in
+    // smallest spheres, as for equal ones, 1:2 half-half deleted 4.5 times
+    // too many small and twice too many large).
+    const double mean_cube = sizes_ ? s_.sizes->mean_cube() : 0;
     double excess = 0;
     std::vector<size_t> candidates;
     for (size_t i = 0; i < n; ++i)
       if (need[i] > 0) {
-        excess += 3 * need[i];
+        excess += sizes_ ? 3 * need[i] * now.radii[i] * now.radii[i] * s_.radius / mean_cube : 3 * need[i];
         candidates.push_back(i);
       }
     std::sort(candidates.begin(), candidates.end(),
