@@ -20,8 +20,8 @@ nlohmann::ordered_json metrics_json(const PackingMetrics& metrics);
 
 /// Unequal spheres: the distribution asked for (spec, basis, moments, the
 /// Desmond-Weeks gain) and achieved (moments, per-class shares, the KS or
-/// largest class distance); null for equal spheres.
-nlohmann::ordered_json radii_json(const FillResult& result);
+/// largest class distance). A fill's report holds it (null for equal spheres).
+nlohmann::ordered_json radii_json(const RadiusDistribution& asked, const DistributionFit& delivered);
 
 /// The whole report of a fill: the mesh's name, the output file (may be
 /// empty), the radius, the seed, the device, `metrics` (metrics_json), why

@@ -121,12 +121,7 @@ void add_check_command(CLI::App& app) {
       nlohmann::ordered_json j{{"particles_file", a->particles}, {"mesh", mesh.source}};
       j["metrics"] = metrics_json(m);
       if (shell) j["shell"] = shell_json(*shell);
-      if (fit) {
-        FillResult as_fill;  // radii_json reads them from a fill's result
-        as_fill.radii = sizes;
-        as_fill.radii_fit = fit;
-        j["radii"] = radii_json(as_fill);
-      }
+      if (fit) j["radii"] = radii_json(*sizes, *fit);
       if (!pairs.is_null()) j["contacts"] = pairs;
       j["passed"] = misses.empty();
       j["failures"] = misses;

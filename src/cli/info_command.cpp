@@ -31,15 +31,20 @@ const size_t kCounts[] = {1000, 10000, 100000, 1000000};
 
 /// The radius `pfill fill -n count` chooses at its defaults (the count
 /// rule); with --radii, the mean radius of the distribution so scaled.
+/// --radii scaled as `pfill fill -n count --radii` scales it.
+RadiusDistribution sizes_for(const MeshDiagnostics& d, size_t count, const RadiusDistribution& sizes) {
+  return sizes.scaled(fill_scale_for_count(d.volume(), d.surface_area, count, sizes, FillOptions{}.max_overlap));
+}
+
 double radius_for(const MeshDiagnostics& d, size_t count, const std::optional<RadiusDistribution>& sizes) {
   const FillOptions defaults;
-  if (sizes) return sizes->scaled(fill_scale_for_count(d.volume(), d.surface_area, count, *sizes, defaults.max_overlap)).mean();
+  if (sizes) return sizes_for(d, count, *sizes).mean();
   return fill_radius_for_count(d.volume(), d.surface_area, count, defaults.max_overlap) / defaults.rest_distance;
 }
 
 /// The radii of the scaled distribution, "0.01..0.02 (mean 0.015)".
 std::string radii_for(const MeshDiagnostics& d, size_t count, const RadiusDistribution& sizes) {
-  const RadiusDistribution s = sizes.scaled(fill_scale_for_count(d.volume(), d.surface_area, count, sizes, FillOptions{}.max_overlap));
+  const RadiusDistribution s = sizes_for(d, count, sizes);
   return num(s.min_radius()) + ".." + num(s.max_radius()) + " (mean " + num(s.mean()) + ")";
 }
 

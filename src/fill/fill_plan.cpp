@@ -34,7 +34,10 @@ constexpr double kDeviceBytesFixed = 1024 * 96;
 std::optional<RadiusDistribution> fill_sizes(const FillOptions& o, double volume, double area) {
   if (!o.radii) return std::nullopt;
   RadiusDistribution d = *o.radii;
-  if (o.radii_by != d.basis() && !d.spec().empty()) d = RadiusDistribution::parse(d.spec(), o.radii_by);
+  // radii_by volume re-reads a SPEC parsed by number (the settings parse
+  // `radii` before knowing it); a C++ caller's own basis otherwise stands.
+  if (o.radii_by == FractionBasis::Volume && d.basis() != FractionBasis::Volume && !d.spec().empty())
+    d = RadiusDistribution::parse(d.spec(), o.radii_by);
   if (o.count > 0) d = d.scaled(fill_scale_for_count(volume, area, o.count, d, o.max_overlap));
   return d;
 }

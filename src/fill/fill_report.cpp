@@ -19,10 +19,7 @@ nlohmann::ordered_json metrics_json(const PackingMetrics& m) {
           {"largest_hole_over_r", m.largest_hole}};
 }
 
-nlohmann::ordered_json radii_json(const FillResult& r) {
-  if (!r.radii || !r.radii_fit) return nullptr;  // equal spheres: `radius`
-  const RadiusDistribution& d = *r.radii;
-  const DistributionFit& f = *r.radii_fit;
+nlohmann::ordered_json radii_json(const RadiusDistribution& d, const DistributionFit& f) {
   nlohmann::ordered_json classes = nlohmann::ordered_json::array();
   for (const DistributionFit::ClassFit& c : f.classes)
     classes.push_back({{"radii", {c.lo, c.hi}},
@@ -78,7 +75,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
           {"sites", sites},
           {"parts", {{"closed", r.parts}, {"too_small", r.parts_too_small}}},
-          {"radii", radii_json(r)},
+          {"radii", r.radii && r.radii_fit ? radii_json(*r.radii, *r.radii_fit) : nullptr},  // equal: `radius`
           {"warnings", r.warnings}};
 }
 

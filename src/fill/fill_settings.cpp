@@ -105,9 +105,8 @@ FillSetting text_setting(const char* name, std::string FillOptions::*field, Sett
           [=](const FillOptions& o) { return o.*field; }};
 }
 
-// The two settings of unequal spheres parse each other's way: the basis
-// re-reads a SPEC given before it, so their order on a command line or in
-// Python's keywords does not matter.
+// The basis (radii_by) is applied when the fill plans (fill_sizes), so the
+// order of the two on a command line or in Python's keywords does not matter.
 FillSetting radii_setting(const char* name, SettingTier tier, const char* help) {
   return {name, "", tier, "SPEC", help,
           [](FillOptions& o, const std::string& t) { o.radii = RadiusDistribution::parse(t, o.radii_by); },
@@ -116,10 +115,7 @@ FillSetting radii_setting(const char* name, SettingTier tier, const char* help) 
 
 FillSetting radii_by_setting(const char* name, SettingTier tier, const char* help) {
   return {name, "", tier, "number|volume", help,
-          [](FillOptions& o, const std::string& t) {
-            o.radii_by = parse_fraction_basis(t);
-            if (o.radii && !o.radii->spec().empty()) o.radii = RadiusDistribution::parse(o.radii->spec(), o.radii_by);
-          },
+          [](FillOptions& o, const std::string& t) { o.radii_by = parse_fraction_basis(t); },
           [](const FillOptions& o) { return std::string(to_string(o.radii_by)); }};
 }
 

@@ -34,13 +34,7 @@ void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, doub
     double r = radius;
     if (deficit) {  // of a class short of its share that fits; none: the distribution comes first
       deficit->recount(particles.radii);
-      const double room = std::min(h.gap_over_r * radius, -boundary.signed_distance(h.centre));
-      r = 0;
-      for (size_t c : deficit->candidates()) {
-        if (deficit->smallest_of(c) > room) continue;
-        r = std::max(std::min(deficit->draw(c, rng), room), deficit->smallest_of(c));
-        break;
-      }
+      r = deficit->take_within(std::min(h.gap_over_r * radius, -boundary.signed_distance(h.centre)), rng);
       if (r == 0) break;
     }
     particles.positions.push_back(h.centre);

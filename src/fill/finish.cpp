@@ -196,15 +196,7 @@ class Finisher {
   /// deep enough inside by the field): of the class furthest below its
   /// share that fits; 0 when none does.
   double hole_radius(const Vec3& p, double room) {
-    room = std::min(room, -sample(field_, p) / (1 + s_.wall_margin));
-    for (size_t k : sizes_->candidates()) {
-      if (sizes_->smallest_of(k) > room) continue;
-      double r = sizes_->draw(k, rng_);
-      if (r > room) r = sizes_->smallest_of(k);
-      sizes_->add(r);
-      return r;
-    }
-    return 0;
+    return sizes_->take_within(std::min(room, -sample(field_, p) / (1 + s_.wall_margin)), rng_);
   }
 
   /// Steps until no pair is over the bound, the count of those stops

@@ -49,23 +49,29 @@ bool SizeDeficit::may_lose(size_t k, double surplus_share) const {
   return static_cast<double>(count_[k] - 1) - classes_[k].number_share * left > -std::max(1.0, surplus_share * left);
 }
 
+double SizeDeficit::take_within(double room, std::mt19937_64& rng) {
+  for (size_t k : candidates()) {
+    if (classes_[k].lo > room) continue;
+    const double r = std::max(std::min(draw(k, rng), room), classes_[k].lo);
+    add(r);
+    return r;
+  }
+  return 0;
+}
+
 double SizeDeficit::draw(size_t k, std::mt19937_64& rng) const {
   return sizes_.draw_in_class(classes_, k, std::uniform_real_distribution<double>(0, 1)(rng));
 }
 
 size_t SizeDeficit::class_of(double radius) const {
-  // Classes ascend and touch; a radius read back as a float may miss its
-  // class by a rounding: the nearest class takes it.
-  size_t best = 0;
-  double best_miss = INFINITY;
-  for (size_t k = 0; k < classes_.size(); ++k) {
-    const double miss = radius < classes_[k].lo ? classes_[k].lo - radius
-                        : radius > classes_[k].hi ? radius - classes_[k].hi
-                                                  : 0;
-    if (miss < best_miss) best = k, best_miss = miss;
-    if (miss == 0) break;
-  }
-  return best;
+  // Classes ascend: the first whose top reaches the radius, or the one below
+  // when the radius (read back as a float) lies nearer its top.
+  const auto above = std::lower_bound(classes_.begin(), classes_.end(), radius,
+                                      [](const SizeClass& c, double r) { return c.hi < r; });
+  if (above == classes_.end()) return classes_.size() - 1;
+  const size_t k = static_cast<size_t>(above - classes_.begin());
+  if (k > 0 && radius < above->lo && radius - classes_[k - 1].hi < above->lo - radius) return k - 1;
+  return k;
 }
 
 }  // namespace pfill

@@ -31,10 +31,12 @@ class SizeDeficit {
   /// Whether a sphere of class k may go without leaving its class short
   /// of its share by more than the surplus a class may run ahead by.
   bool may_lose(size_t k, double surplus_share = 0) const;
+  /// A sphere for a hole with `room` (the largest radius it takes): of the
+  /// first of candidates() whose smallest radius fits, drawn inside the
+  /// class and capped at the room; counted in (add). 0 when none fits.
+  double take_within(double room, std::mt19937_64& rng);
   /// A radius of class k, drawn by the law inside the class.
   double draw(size_t k, std::mt19937_64& rng) const;
-  /// The class's smallest radius (a hole too small for it takes none of it).
-  double smallest_of(size_t k) const { return classes_[k].lo; }
   size_t class_of(double radius) const;
   size_t classes() const { return classes_.size(); }
 
