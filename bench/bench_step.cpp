@@ -17,12 +17,13 @@
 // the others. --work-group, --force-buffers, --newton (on, off),
 // --pair-queue (on, off), --inner-lists (on, off), --inner-skin (sigma),
 // --step-form (cpu, gpu) and --skin (every case's list skin, in sigma) set
-// EngineParams' values. --radii-ratio K (K > 1) adds after each large case
+// EngineParams' values. --radii-ratio K (K >= 2; or K1,K2,...) adds after each large case
 // the same case with unequal spheres at the same packing (mixed_system):
 // half the spheres (by number) of radius 0.5, half of 0.5 K, the large
 // ones on an FCC lattice and the small ones in its octahedral holes
 // (K >= 2; the wall field sampled K times coarser), so that the line below
-// the equal spheres' compares the cost per particle-step.
+// the equal spheres' compares the cost per particle-step (printed as a
+// ratio, of wall and of CPU time, and kept in the JSON as cost_vs_equal).
 //
 //   bench_step [--radii-ratio K] [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]
 #include <algorithm>
@@ -379,7 +380,7 @@ int main(int argc, char** argv) {
   bool big = false, quick = false, fill_only = false, field_image = false;
   double skin = 0;  // --skin: every case's; 0: EngineParams' default, and FillOptions' for the fill case
   size_t only = 0;
-  double radii_ratio = 1;  // --radii-ratio: also each large case with unequal spheres
+  std::vector<double> radii_ratios;  // --radii-ratio K[,K2...]: also each large case with unequal spheres
   std::string cutoff_only;  // --cutoff: "lj" (2.5 sigma) or "repulsive"; empty: both
   std::string json_path;
   for (int i = 1; i < argc; ++i) {
@@ -405,10 +406,16 @@ int main(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--json") && i + 1 < argc) json_path = argv[++i];
     else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) only = std::strtoul(argv[++i], nullptr, 10);
     else if (!std::strcmp(argv[i], "--cutoff") && i + 1 < argc) cutoff_only = argv[++i];
-    else if (!std::strcmp(argv[i], "--radii-ratio") && i + 1 < argc && std::strtod(argv[i + 1], nullptr) >= 2)
-      radii_ratio = std::strtod(argv[++i], nullptr);
-    else {
-      std::fprintf(stderr, "usage: bench_step [--radii-ratio K (>= 2)] [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
+    else if (!std::strcmp(argv[i], "--radii-ratio") && i + 1 < argc && std::strtod(argv[i + 1], nullptr) >= 2) {
+      for (const char* at = argv[++i]; *at;) {  // K or K1,K2,...
+        char* end = nullptr;
+        const double k = std::strtod(at, &end);
+        if (end == at || !(k >= 2)) break;
+        radii_ratios.push_back(k);
+        at = *end == ',' ? end + 1 : end;
+      }
+    } else {
+      std::fprintf(stderr, "usage: bench_step [--radii-ratio K[,K2...] (each >= 2)] [--big] [--quick] [--fill] [--skin S] [--only N] [--cutoff lj|repulsive] [--field-image] [--work-group W] [--force-buffers B] [--newton on|off] [--pair-queue on|off] [--inner-lists on|off] [--inner-skin S] [--step-form cpu|gpu] [--no-sort] [--json FILE]\n");
       return 2;
     }
   }
@@ -422,7 +429,7 @@ int main(int argc, char** argv) {
     for (size_t n : large)
       for (double rc : {2.5, 0.0}) {
         cases.push_back({n, rc, false});
-        if (radii_ratio > 1) cases.push_back({n, rc, false, false, radii_ratio});
+        for (double k : radii_ratios) cases.push_back({n, rc, false, false, k});
       }
     for (size_t n : {500, 1000, 4000}) cases.push_back({n, 0.0, true});
     cases.push_back({4000, 0.0, true, true});
@@ -444,6 +451,7 @@ int main(int argc, char** argv) {
       std::fflush(stdout);
       all["cases"].push_back(j);
     }
+    nlohmann::json equal_case;  // the last equal-sphere case: unequal ones print their cost against it
     for (const Case& c : cases) for (bool image : fields) {
       if (fill_only || (only && c.n != only)) continue;
       if (!cutoff_only.empty() && cutoff_only != (c.cutoff_sigma > 0 ? "lj" : "repulsive")) continue;
@@ -459,6 +467,15 @@ int main(int argc, char** argv) {
                   100 * j["rebuild_share"].get<double>(), j["update_us_rebuild_step"].get<double>(),
                   j["update_us_other_step"].get<double>(), j["update_us_other_step_p10"].get<double>());
       std::printf("%s\n", j["cell_overflow_hits"].get<uint32_t>() ? "  CELL OVERFLOW" : "");
+      if (c.radii_ratio == 1) {
+        equal_case = j;
+      } else if (!equal_case.is_null() && equal_case["n"] == j["n"] && equal_case["cutoff"] == j["cutoff"]) {
+        // the cost per particle-step against the equal spheres' line above (same N, packing, cutoff)
+        j["cost_vs_equal"] = equal_case["particle_steps_per_second"].get<double>() / j["particle_steps_per_second"].get<double>();
+        j["cpu_cost_vs_equal"] = j["cpu_us_per_step"].get<double>() / equal_case["cpu_us_per_step"].get<double>();
+        std::printf("  radii 1:%g half by number, cost per particle-step / equal spheres': %.2fx wall, %.2fx cpu\n",
+                    c.radii_ratio, j["cost_vs_equal"].get<double>(), j["cpu_cost_vs_equal"].get<double>());
+      }
       std::fflush(stdout);
       all["cases"].push_back(j);
     }

@@ -32,7 +32,13 @@
  * The lists' layout and their builds are the step form's (cpu_lists.cl,
  * gpu_lists.cl); births and removals edit them (births_removals.cl). */
 
-#define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer */
+#ifndef PF_LEVELS
+#define PF_LEVELS 1u
+#define PF_LEVEL_R0 1.0f
+#define PF_CELL_CAP_UP PF_CELL_CAP
+#endif
+
+#define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer (level 0) */
 #define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
@@ -44,6 +50,64 @@ int4 pf_cell_of(float4 x, float4 origin, float4 inv_size, int4 dims) {
 
 uint pf_cell_index(int4 c, int4 dims) { return (uint)(c.x + dims.x * (c.y + dims.y * c.z)); }
 
+/* Cell levels (PF_LEVELS > 1: unequal spheres of radii 1:2 or more;
+ * EngineConstants::cell_levels). Level L holds the spheres of radius
+ * above PF_LEVEL_R0 2^(L-1) up to PF_LEVEL_R0 2^L (level 0 all below, the
+ * top all above) in a grid nested in level 0's: cells 2^L wide, so a
+ * point's cell there is its level-0 cell >> L, and the largest pair of
+ * the level reaches one cell. A sphere's partners of its level or above
+ * lie in the 27 cells around it in their level; those below, in the cells
+ * under the 27 of its own (pf_level_span). So a small sphere's list build
+ * reads small spheres' cells, not cells sized for the largest pair. The
+ * levels' cells are numbered one level after the other, as are their
+ * slots (level 0 PF_CELL_CAP a cell, the others PF_CELL_CAP_UP). */
+#if PF_LEVELS > 1
+uint pf_level_of(float r) {
+  uint level = 0u;
+  while (level + 1u < PF_LEVELS && r > PF_LEVEL_R0 * (float)(1u << level)) ++level;
+  return level;
+}
+
+typedef struct {
+  int4 dims;   /* cells a side (w: 0) */
+  uint first;  /* its first cell, over all levels */
+  uint slot0;  /* its first float in the slots */
+  uint cap;    /* particles a cell */
+} pf_level;
+
+/* Level `level`'s grid, from level 0's dims. */
+pf_level pf_level_at(int4 dims0, uint level) {
+  pf_level g;
+  g.first = 0u;
+  g.slot0 = 0u;
+  for (uint l = 0u; l < level; ++l) {
+    const int4 d = ((dims0 - (int4)(1)) >> (int4)((int)l)) + (int4)(1);
+    const uint cells = (uint)(d.x * d.y * d.z);
+    g.first += cells;
+    g.slot0 += cells * 5u * (l == 0u ? PF_CELL_CAP : PF_CELL_CAP_UP);
+  }
+  g.dims = ((dims0 - (int4)(1)) >> (int4)((int)level)) + (int4)(1);
+  g.dims.w = 0;
+  g.cap = level == 0u ? PF_CELL_CAP : PF_CELL_CAP_UP;
+  return g;
+}
+
+/* The cells [lo, hi] of level `level` (grid dims) that may hold a partner
+ * of a sphere of level `own` whose cell there is c: for a level at or
+ * above its own, the 27 around it (clamped); below, those under the 27. */
+void pf_level_span(int4 c, uint own, uint level, int4 dims, int4* lo, int4* hi) {
+  if (level >= own) {
+    const int4 cl = c >> (int4)((int)(level - own));
+    *lo = max(cl - (int4)(1), (int4)(0));
+    *hi = min(cl + (int4)(1), dims - (int4)(1));
+  } else {
+    const int k = 1 << (own - level);
+    *lo = max((c - (int4)(1)) * k, (int4)(0));
+    *hi = min((c + (int4)(2)) * k - (int4)(1), dims - (int4)(1));
+  }
+}
+#endif
+
 /* The particles a list build can read from a cell (counts: this step's
  * set): its count, at most PF_CELL_CAP (a cell that overflowed sets the
  * overflow bit in *bits). */
@@ -53,17 +117,30 @@ uint pf_cell_listed(__global const uint* counts, uint cell, uint* bits) {
   return min(m, PF_CELL_CAP);
 }
 
+/* pf_cell_listed for a cell of `cap` slots (cell levels). */
+uint pf_cell_listed_cap(__global const uint* counts, uint cell, uint cap, uint* bits) {
+  const uint m = counts[cell];
+  if (m > cap) *bits |= PF_OVERFLOW_BIT;
+  return min(m, cap);
+}
+
 /* Whether the cell at offset (ox, oy, oz) from particle i's own cell may
  * hold a particle within PF_RL of it: `frac` is i's position within its
  * cell (0..1 a side, in cell units), cell_inv the inverse cell edge. A cell
  * whose nearest point is farther (a corner or edge cell when i sits near
  * the opposite faces) is skipped: about a quarter of the 27. */
+bool pf_cell_in_reach_cells(float4 frac, int ox, int oy, int oz, float reach2);
 bool pf_cell_in_reach(float4 frac, int ox, int oy, int oz, float cell_inv) {
+  return pf_cell_in_reach_cells(frac, ox, oy, oz, PF_RL2 * cell_inv * cell_inv);
+}
+
+/* The same for a reach of sqrt(reach2) cells. */
+bool pf_cell_in_reach_cells(float4 frac, int ox, int oy, int oz, float reach2) {
   const float gx = ox < 0 ? frac.x : ox > 0 ? 1.0f - frac.x : 0.0f;
   const float gy = oy < 0 ? frac.y : oy > 0 ? 1.0f - frac.y : 0.0f;
   const float gz = oz < 0 ? frac.z : oz > 0 ? 1.0f - frac.z : 0.0f;
   const float gap2 = fmax(gx, 0.0f) * fmax(gx, 0.0f) + fmax(gy, 0.0f) * fmax(gy, 0.0f) + fmax(gz, 0.0f) * fmax(gz, 0.0f);
-  return gap2 < 1.0001f * PF_RL2 * cell_inv * cell_inv;
+  return gap2 < 1.0001f * reach2;
 }
 
 /* Lists every particle in this step's cells (count words from cell_base
@@ -88,11 +165,19 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
   if (!rebuild) return;
   for (uint k = i; k < n; k += items) { /* CPU devices launch a few items a core: most steps return at once */
     const float4 x = X[k];
-    const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims);
+#if PF_LEVELS > 1
+    const uint level = pf_level_of(x.w);
+    const pf_level g = pf_level_at(cell_dims, level);
+    const int4 c = pf_cell_of(x, cell_origin, cell_inv, cell_dims) >> (int4)((int)level);
+    const uint in_level = pf_cell_index(c, g.dims), cell = g.first + in_level, cap = g.cap;
+    __global float* block = slots + g.slot0 + in_level * 5u * cap;
+#else
+    const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), cap = PF_CELL_CAP;
+    __global float* block = slots + cell * PF_BLOCK;
+#endif
     const uint count = atomic_inc(&counts[cell_base + cell]);
     touched[now * touched_stride + k] = count == 0u ? cell + 1u : 0u;
-    if (count < PF_CELL_CAP) {
-      __global float* block = slots + cell * PF_BLOCK;
+    if (count < cap) {
       block[PF_SLOT(count, 0u)] = x.x;
       block[PF_SLOT(count, 1u)] = x.y;
       block[PF_SLOT(count, 2u)] = x.z;
@@ -112,6 +197,34 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
   const float4 xi = X[i];
   const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
   uint found = 0;
+#if PF_LEVELS > 1
+  const uint own = pf_level_of(xi.w);
+  for (uint level = 0u; level < PF_LEVELS; ++level) {
+    const pf_level g = pf_level_at(cell_dims, level);
+    int4 lo, hi;
+    pf_level_span(c >> (int4)((int)own), own, level, g.dims, &lo, &hi);
+    for (int cz = lo.z; cz <= hi.z; ++cz)
+      for (int cy = lo.y; cy <= hi.y; ++cy)
+        for (int cx = lo.x; cx <= hi.x; ++cx) {
+          const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
+          const uint m = min(counts[cell_base + g.first + in_level], g.cap);
+          for (uint k = 0; k < m; ++k) {
+            const uint j = as_uint(slots[g.slot0 + in_level * 5u * g.cap + PF_SLOT(k, 4u)]);
+            if (j == i) continue;
+            const float4 xj = X[j];
+            float4 d = xi - xj;
+            d.w = 0.0f;
+            const float rs = xi.w + xj.w;
+            if (dot(d, d) < fmax(PF_RC2 * PF_PAIR_Q2(rs), rs * rs)) {
+              if (found < max_out) out[i * max_out + found] = j;
+              ++found;
+            }
+          }
+        }
+  }
+  out_count[i] = found;
+  return;
+#endif
   for (int dz = -1; dz <= 1; ++dz)
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {

@@ -192,7 +192,18 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
 #else
 #define PF_STENCIL_CELLS 27u
 #endif
+#if PF_LEVELS > 1
+/* Cell levels (cells.cl): the stencil holds the own level's cells as
+ * above, then the 27 around the particle in each level above (partners
+ * larger than the cell's particles: with PF_NEWTON the smaller of a pair
+ * of two levels lists it). Without PF_NEWTON the levels below (many small
+ * partners of a large sphere) are read from the cells by pf_build_list. */
+#define PF_STENCIL_CAP                                                                                  \
+  (PF_STENCIL_CELLS * (PF_CELL_CAP > PF_CELL_CAP_UP ? PF_CELL_CAP : PF_CELL_CAP_UP) +                   \
+   27u * (PF_LEVELS - 1u) * PF_CELL_CAP_UP + 8u)
+#else
 #define PF_STENCIL_CAP (PF_STENCIL_CELLS * PF_CELL_CAP + 8u) /* 8 lanes of slack past the last */
+#endif
 typedef struct {
   float x[PF_STENCIL_CAP], y[PF_STENCIL_CAP], z[PF_STENCIL_CAP];
 #if PF_POLY
@@ -204,10 +215,11 @@ typedef struct {
   uint bits;              /* the overflow bit, where a cell of the stencil overflowed */
 } pf_stencil;
 
-/* Copies cell `cell`'s listed particles to the end of st's candidates, in index order. */
-void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const float* slots, uint cell) {
-  const uint m = pf_cell_listed(counts, cell, &st->bits), at = st->count;
-  __global const float* block = slots + cell * PF_BLOCK;
+/* Copies the listed particles of a cell (its count word counts[cell], its
+ * slots `block`, `cap` of them) to the end of st's candidates, in index order. */
+void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell, __global const float* block,
+                          uint cap) {
+  const uint m = pf_cell_listed_cap(counts, cell, cap, &st->bits), at = st->count;
   for (uint k = 0; k < m; k += 8u) { /* whole chunks; the lanes past m are overwritten or never read */
     __global const float* chunk = block + 5u * k;
     vstore8(vload8(0, chunk), 0, st->x + at + k);
@@ -245,9 +257,84 @@ void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const 
   st->count = at + m;
 }
 
-/* st becomes the stencil of the cell at coordinates c. */
-void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c,
-                       int4 cell_dims) {
+/* Copies level-0 cell `cell`'s listed particles to the end of st's candidates, in index order. */
+void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const float* slots, uint cell) {
+  pf_stencil_add_block(st, counts, cell, slots + cell * PF_BLOCK, PF_CELL_CAP);
+}
+
+#if PF_LEVELS > 1
+/* Which stencil a particle of radius r in level-0 cell c takes: its cell
+ * in its own level (numbered over all levels). */
+uint pf_stencil_key(float r, int4 c, int4 cell_dims) {
+  const uint own = pf_level_of(r);
+  const pf_level g = pf_level_at(cell_dims, own);
+  return g.first + pf_cell_index(c >> (int4)((int)own), g.dims);
+}
+
+/* Copies the cells [lo, hi] of level grid g, in (z, y, x) order. */
+void pf_stencil_add_span(pf_stencil* st, __global const uint* counts, __global const float* slots, pf_level g,
+                         int4 lo, int4 hi) {
+  for (int cz = lo.z; cz <= hi.z; ++cz)
+    for (int cy = lo.y; cy <= hi.y; ++cy)
+      for (int cx = lo.x; cx <= hi.x; ++cx) {
+        const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
+        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap);
+      }
+}
+
+/* st becomes the stencil of a particle of radius r in level-0 cell c0
+ * (cell levels: see PF_STENCIL_CAP). */
+void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c0,
+                              float r, int4 cell_dims, float cell_inv) {
+  st->count = 0u;
+  st->bits = 0u;
+  const uint own = pf_level_of(r);
+  const pf_level g = pf_level_at(cell_dims, own);
+  const int4 c = c0 >> (int4)((int)own);
+  st->cell = g.first + pf_cell_index(c, g.dims);
+  const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), g.dims - (int4)(1));
+#if PF_NEWTON
+  pf_stencil_add_block(st, counts, st->cell, slots + g.slot0 + (st->cell - g.first) * 5u * g.cap, g.cap);
+  st->own = st->count;
+  for (int cz = c.z; cz <= hi.z; ++cz)
+    for (int cy = cz == c.z ? c.y : lo.y; cy <= hi.y; ++cy)
+      for (int cx = cz == c.z && cy == c.y ? c.x + 1 : lo.x; cx <= hi.x; ++cx) {
+        const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
+        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap);
+      }
+#else
+  st->own = 0u;
+  pf_stencil_add_span(st, counts, slots, g, lo, hi);
+#endif
+  /* the levels above: their cells within the reach of the two levels'
+   * largest pair from the cell's box (in level-0 cells [c 2^own, (c + 1)
+   * 2^own); a particle outside the grid, clamped into it, is only farther
+   * from the others), not all 27: a small sphere reaches a large one's
+   * cells less far than two large ones do */
+  const float4 box_lo = convert_float4(c * (int4)(1 << own)), box_hi = convert_float4((c + (int4)(1)) * (int4)(1 << own));
+  for (uint level = own + 1u; level < PF_LEVELS; ++level) {
+    const pf_level up = pf_level_at(cell_dims, level);
+    const float reach = 1.0001f * cell_inv * PF_PAIR_REACH(PF_LEVEL_R0 * (float)((1u << own) + (1u << level)));
+    const float to_level = 1.0f / (float)(1u << level);
+    int4 ulo, uhi; /* (within the 27, which suffice: at most 27 cells a level in the stencil) */
+    pf_level_span(c, own, level, up.dims, &ulo, &uhi);
+    ulo = max(convert_int4_rtn((box_lo - reach) * to_level), ulo);
+    uhi = min(convert_int4_rtn((box_hi + reach) * to_level), uhi);
+    pf_stencil_add_span(st, counts, slots, up, ulo, uhi);
+  }
+}
+#else
+uint pf_stencil_key(float r, int4 c, int4 cell_dims) { return pf_cell_index(c, cell_dims); }
+#endif
+
+/* st becomes the stencil of a particle of radius r in the cell at
+ * coordinates c (cell_inv: 1 / level 0's cell edge). */
+void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c, float r,
+                       int4 cell_dims, float cell_inv) {
+#if PF_LEVELS > 1
+  pf_stencil_gather_levels(st, counts, slots, c, r, cell_dims, cell_inv);
+  return;
+#endif
   st->count = 0u;
   st->bits = 0u;
   st->cell = pf_cell_index(c, cell_dims);
@@ -268,13 +355,50 @@ void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global con
 #endif
 }
 
+#if PF_LEVELS > 1 && !PF_NEWTON
+/* Lists particle i's partners of the levels below its own (without
+ * PF_NEWTON a large sphere lists its small partners too) from the cells
+ * under its stencil, after the `found` entries of its row, sorted by index
+ * (the cells hold them in the order of their atomic insertions). Returns
+ * the new count (the overflow bit in *bits past PF_LIST_CAP). */
+uint pf_list_levels_below(uint i, float4 xi, __global const uint* counts, __global const float* slots, int4 c0,
+                          int4 cell_dims, __global uint* row, uint found, uint* bits) {
+  const uint own = pf_level_of(xi.w), first = found;
+  const int4 c = c0 >> (int4)((int)own);
+  for (uint level = 0u; level < own; ++level) {
+    const pf_level g = pf_level_at(cell_dims, level);
+    int4 lo, hi;
+    pf_level_span(c, own, level, g.dims, &lo, &hi);
+    for (int cz = lo.z; cz <= hi.z; ++cz)
+      for (int cy = lo.y; cy <= hi.y; ++cy)
+        for (int cx = lo.x; cx <= hi.x; ++cx) {
+          const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
+          const uint m = pf_cell_listed_cap(counts, g.first + in_level, g.cap, bits);
+          __global const float* block = slots + g.slot0 + in_level * 5u * g.cap;
+          for (uint k = 0; k < m; ++k) {
+            const float dx = xi.x - block[PF_SLOT(k, 0u)], dy = xi.y - block[PF_SLOT(k, 1u)];
+            const float dz = xi.z - block[PF_SLOT(k, 2u)];
+            if (!PF_LISTED(dx * dx + dy * dy + dz * dz, xi.w + block[PF_SLOT(k, 3u)])) continue;
+            if (found < PF_LIST_CAP) PF_AT(row, found) = PF_ENTRY(as_uint(block[PF_SLOT(k, 4u)]));
+            ++found;
+          }
+        }
+  }
+  if (found > PF_LIST_CAP) *bits |= PF_OVERFLOW_BIT;
+  const uint from = min(first, PF_LIST_CAP);
+  pf_sort_row(row + from, min(found, PF_LIST_CAP) - from);
+  return found;
+}
+#endif
+
 /* Rebuilds particle i's neighbour list from its cell's stencil: the
  * candidates j != i with |x_i - x_j|^2 < PF_RL2 (unequal spheres: and
  * their own pair's reach, PF_LISTED; with PF_NEWTON, of the
  * cell's own particles only those with j > i), in the stencil's order.
  * Returns the count (capped at PF_LIST_CAP; more set the overflow bit in
  * *bits, as does a stencil cell that overflowed). */
-uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global uint* row, uint* bits) {
+uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global const uint* counts, __global const float* slots,
+                   int4 c, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
   const uint8 ei = (uint8)(PF_ENTRY(i));
   for (uint k = 0; k < st->count; k += 8u) {
@@ -297,6 +421,9 @@ uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global uint* row, 
     pf_store_hits8(row, found, e, near, PF_ENTRY(i));
     found += pf_count8(near);
   }
+#if PF_LEVELS > 1 && !PF_NEWTON
+  found = pf_list_levels_below(i, xi, counts, slots, c, cell_dims, row, found, bits);
+#endif
   *bits |= st->bits;
   if (found > PF_LIST_CAP) {
     *bits |= PF_OVERFLOW_BIT;

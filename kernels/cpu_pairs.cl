@@ -329,13 +329,14 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     uint count, touching; /* touching: entries that may touch i come first (pf_prune_row) */
     if (rebuild) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
-      const uint cell = pf_cell_index(c, cell_dims);
+      const uint cell = pf_stencil_key(xi.w, c, cell_dims);
       if (st[newest].cell != cell) {
         newest = 1u - newest;
-        if (st[newest].cell != cell) pf_stencil_gather(&st[newest], counts + cell_base, slots, c, cell_dims);
+        if (st[newest].cell != cell)
+          pf_stencil_gather(&st[newest], counts + cell_base, slots, c, xi.w, cell_dims, cell_inv.x);
       }
       uint bits = 0u;
-      count = pf_build_list(i, xi, &st[newest], row, &bits);
+      count = pf_build_list(i, xi, &st[newest], counts + cell_base, slots, c, cell_dims, row, &bits);
       list_count[i] = count;
 #if PF_NEWTON
       const uint room = min(count + PF_ROW_SLACK, PF_LIST_CAP);

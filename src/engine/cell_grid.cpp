@@ -10,20 +10,27 @@
 
 namespace pfill {
 
-CellGrid::CellGrid(Device& device, double cell_size, size_t cell_capacity)
-    : device_(device), cell_size_(cell_size), cell_capacity_(cell_capacity) {
+CellGrid::CellGrid(Device& device, double cell_size, size_t cell_capacity, unsigned levels, size_t capacity_up)
+    : device_(device),
+      cell_size_(cell_size),
+      cell_capacity_(cell_capacity),
+      levels_(std::max(levels, 1u)),
+      capacity_up_(capacity_up > 0 ? capacity_up : cell_capacity) {
   touched_upto = device_.make_buffer(2 * sizeof(cl_uint), "cells to empty");
 }
 
 void CellGrid::set_domain(const Box3& box) {
   const double cs = cell_size_;
   int d[3];
-  double total = 1;
-  for (int a = 0; a < 3; ++a) {
-    d[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
-    total *= d[a];
+  for (int a = 0; a < 3; ++a) d[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
+  double total = 0, slot_floats = 0;
+  for (unsigned level = 0; level < levels_; ++level) {
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) cells *= ((d[a] - 1) >> level) + 1;
+    total += cells;
+    slot_floats += cells * 5 * (level == 0 ? cell_capacity_ : capacity_up_);
   }
-  if (total * cell_capacity_ * 5 > 1.5e9)
+  if (slot_floats > 1.5e9)
     throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
                 " cells; use a larger radius or a smaller domain");
   const double lo[3] = {box.lo.x, box.lo.y, box.lo.z};
@@ -36,7 +43,7 @@ void CellGrid::set_domain(const Box3& box) {
   dims.s[3] = 0;
   total_ = static_cast<size_t>(total);
   counts = device_.make_buffer(2 * total_ * sizeof(cl_uint), "cell counts");
-  const size_t slot_bytes = total_ * 5 * cell_capacity_ * sizeof(cl_float);
+  const size_t slot_bytes = static_cast<size_t>(slot_floats) * sizeof(cl_float);
   slots = device_.make_buffer(slot_bytes, "cell slots");
   // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
   check_cl(device_.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer", "cell slots");

@@ -1,5 +1,6 @@
-// The neighbour grid on the device (kernels/cells.cl): its geometry, two
-// sets of count words taken in turn by the step's parity, the slots, and
+// The neighbour grid on the device (kernels/cells.cl): its geometry (one
+// grid, or nested levels for unequal spheres: EngineConstants::cell_levels),
+// two sets of count words taken in turn by the step's parity, the slots, and
 // by parity the cell each particle was first into and how many particles
 // were listed, which the next step empties.
 #pragma once
@@ -14,10 +15,14 @@ namespace pfill {
 
 class CellGrid {
  public:
-  CellGrid(Device& device, double cell_size, size_t cell_capacity);
+  /// `levels` nested grids, level L's cells 2^L cell_size wide; level 0's
+  /// cells hold `cell_capacity` particles, the others' `capacity_up`.
+  CellGrid(Device& device, double cell_size, size_t cell_capacity, unsigned levels = 1, size_t capacity_up = 0);
 
   /// The grid over `box`: cells of edge exactly the cell size (the grid
   /// may reach a little past the box; particles outside clamp in), empty.
+  /// Level L has ((dims - 1) >> L) + 1 cells a side, numbered after the
+  /// levels below it, its slots after theirs (cells.cl pf_level_at).
   void set_domain(const Box3& box);
   /// Room for `cap` particles' first-into words (empties the cells).
   void reserve(size_t cap);
@@ -27,7 +32,7 @@ class CellGrid {
   void require_domain() const;
   bool has_domain() const { return has_domain_; }
 
-  /// Step `steps`'s set of count words: its first word.
+  /// Step `steps`'s set of count words (every level's cells): its first word.
   cl_uint base(uint64_t steps) const { return static_cast<cl_uint>((steps % 2) * total_); }
   cl_uint total() const { return static_cast<cl_uint>(total_); }
   /// The Morton (Z-order) key of the cell holding `x`, clamped into the
@@ -42,6 +47,8 @@ class CellGrid {
   Device& device_;
   double cell_size_;
   size_t cell_capacity_;
+  unsigned levels_;
+  size_t capacity_up_;
   size_t total_ = 0;
   bool has_domain_ = false;
 };

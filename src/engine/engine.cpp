@@ -179,6 +179,12 @@ void Engine::finish() { impl_->state.device.finish(); }
 
 std::vector<std::vector<uint32_t>> Engine::neighbour_lists() { return impl_->form->neighbour_lists(); }
 
+std::vector<std::vector<uint32_t>> Engine::step_lists() {
+  const EngineState& s = impl_->state;
+  if (!s.lists.valid) return std::vector<std::vector<uint32_t>>(s.n);
+  return s.lists.read(s.n);
+}
+
 std::map<std::string, double> Engine::kernel_times() {
   EngineState& s = impl_->state;
   std::map<std::string, double> out;

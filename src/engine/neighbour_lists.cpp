@@ -1,6 +1,8 @@
 // The neighbour lists' device buffers (see neighbour_lists.hpp).
 #include "engine/neighbour_lists.hpp"
 
+#include <algorithm>
+
 #include "pfill/device/device_error.hpp"
 
 namespace pfill {
@@ -49,6 +51,36 @@ cl_int4 NeighbourLists::sort_rows() const {
 void NeighbourLists::clear_count(size_t last) {
   check_cl(device_.queue().enqueueFillBuffer(counts, cl_uint(0), last * sizeof(cl_uint), sizeof(cl_uint)),
            "clEnqueueFillBuffer", "neighbour list count");
+}
+
+namespace {
+
+template <typename T>
+std::vector<T> read_all(Device& device, const cl::Buffer& b, const char* what) {
+  std::vector<T> out(b.getInfo<CL_MEM_SIZE>() / sizeof(T));
+  check_cl(device.queue().enqueueReadBuffer(b, CL_TRUE, 0, out.size() * sizeof(T), out.data()),
+           "clEnqueueReadBuffer", what);
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<uint32_t>> NeighbourLists::read(size_t n) const {
+  const size_t cap = layout_.list_capacity;
+  const auto words = read_all<cl_uint>(device_, rows, "neighbour lists");
+  const auto count = read_all<cl_uint>(device_, counts, "neighbour list counts");
+  const auto span = read_all<cl_uint2>(device_, spans, "neighbour list rows");
+  std::vector<std::vector<uint32_t>> out(n);
+  for (size_t i = 0; i < n; ++i) {
+    const size_t m = std::min<size_t>(count[i], cap);
+    for (size_t k = 0; k < m; ++k) {
+      if (layout_.gpu)  // gpu_lists.cl PF_ROW, PF_AT
+        out[i].push_back(words[(i / 32) * cap * 32 + (i % 32) * 4 + (k >> 2) * 128 + (k & 3)]);
+      else  // cpu_lists.cl PF_LIST_ROW; entries 16 j (PF_ENTRY)
+        out[i].push_back(words[(layout_.newton ? span[i].s[0] : i * cap) + k] >> 4);
+    }
+  }
+  return out;
 }
 
 }  // namespace pfill

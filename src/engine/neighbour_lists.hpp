@@ -16,6 +16,7 @@ struct ListLayout {
   size_t list_capacity = 0;  // entries a row (PF_LIST_CAP)
   bool newton = false;       // CPU form, each pair listed once: rows packed per pair_forces block
   bool inner = false;        // CPU form with inner lists (dynamic pruning)
+  bool gpu = false;          // GPU form: rows interleaved by 32 particles, entries plain indices (gpu_lists.cl)
 };
 
 class NeighbourLists {
@@ -38,6 +39,8 @@ class NeighbourLists {
   cl_int4 sort_rows() const;
   /// Particle `last` left: its count must read 0 (a linked birth counts up from there).
   void clear_count(size_t last);
+  /// For tests: the first n particles' lists as neighbour indices, in row order (blocking).
+  std::vector<std::vector<uint32_t>> read(size_t n) const;
 
   cl::Buffer rows, counts, origins;  // PF_ROW / PF_LIST_ROW rows, their counts, where each list was built
   cl::Buffer spans;                  // with newton: each packed row's first word and room (PF_LIST_ROW)

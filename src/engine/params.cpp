@@ -24,6 +24,32 @@ int even_half(double e) {
   return (h == std::floor(h) && h >= 1 && h <= 32) ? static_cast<int>(h) : 0;
 }
 
+// Cells for the densest listing: spheres of diameter `s` at packing 0.74
+// in a cell of edge `edge`, 30% margin, plus slack; whole float8 loads.
+unsigned cell_capacity_for(double edge, double s) {
+  const double dense = std::pow(edge, 3) * 0.74 / (M_PI / 6 * std::pow(s, 3));
+  const unsigned cap = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 248.0));
+  return (cap + 7) / 8 * 8;
+}
+
+// The cell levels (EngineConstants::cell_levels): with unequal spheres
+// of radii 1:2 or more, level 0 holds radii up to level_radius in cells
+// its largest pair reaches, and each level up twice the radii in cells
+// twice as wide, so that a small sphere's cells hold small spheres only
+// (one grid sized for the largest pair put ~1,000 in each at 1:10).
+void derive_cells(const EngineParams& p, double rest, EngineConstants& c) {
+  const double ratio = c.max_radius / p.radius;
+  c.cell_levels = c.polydisperse && ratio >= 2 ? std::min(1 + static_cast<unsigned>(std::floor(std::log2(ratio))), 8u) : 1;
+  c.level_radius = c.max_radius / std::ldexp(1.0, static_cast<int>(c.cell_levels) - 1);
+  const double q0 = c.level_radius / p.radius;  // level 0's largest pair scale
+  c.cell_size = c.cell_levels == 1 ? c.list_reach
+                                   : std::max({c.cutoff * q0, 2 * c.level_radius, rest * q0}) + c.skin;
+  c.cell_capacity = cell_capacity_for(c.cell_size, 0.8 * std::min(2 * p.radius, rest));
+  // a level above 0 holds radii above half its largest, in cells twice level 0's ratio to it
+  c.cell_capacity_up = c.cell_levels == 1 ? c.cell_capacity
+                                          : cell_capacity_for(2 * c.cell_size, 0.8 * std::min(2 * c.level_radius, rest * q0));
+}
+
 }  // namespace
 
 EngineConstants derive_constants(const EngineParams& p) {
@@ -82,12 +108,7 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.skin = skin_sigma * c.sigma;
   // (2 max_radius: a sphere up to max_radius touches at r_i + r_j even below the scaled rest distance)
   c.list_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.skin;
-  c.cell_size = c.list_reach;
-  // Densest listing: spheres of diameter 0.8 * min(2 r, rest) at packing 0.74, 30% margin, plus slack.
-  const double s_min = 0.8 * std::min(2 * p.radius, rest);
-  const double dense = std::pow(c.cell_size, 3) * 0.74 / (M_PI / 6 * std::pow(s_min, 3));
-  c.cell_capacity = static_cast<unsigned>(std::clamp(std::ceil(1.3 * dense) + 8, 8.0, 248.0));
-  c.cell_capacity = (c.cell_capacity + 7) / 8 * 8;  // whole float8 loads in the list build
+  derive_cells(p, rest, c);
   // Lists: spheres of diameter 0.9 * min(2 r, rest) at packing 0.74 within the reach.
   const double s_list = 0.9 * std::min(2 * p.radius, rest);
   double in_reach = 4.0 / 3.0 * M_PI * std::pow(c.list_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));

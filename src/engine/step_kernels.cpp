@@ -42,8 +42,8 @@ EngineState::EngineState(Device& d, const EngineParams& p)
       params(with_skin(p, choices)),
       constants(checked_constants(d, params)),
       particles(d),
-      lists(d, ListLayout{constants.list_capacity, choices.newton, choices.inner_lists}),
-      cells(d, constants.cell_size, constants.cell_capacity),
+      lists(d, ListLayout{constants.list_capacity, choices.newton, choices.inner_lists, choices.gpu_form}),
+      cells(d, constants.cell_size, constants.cell_capacity, constants.cell_levels, constants.cell_capacity_up),
       wall(d, params.field_image) {}
 
 void EngineState::run(Kernel& k, size_t items) {
@@ -77,6 +77,9 @@ std::map<std::string, std::string> shared_defines(const EngineState& s) {
       {"PF_DAMP", flt(c.damping_factor)},
       {"PF_VMAX", flt(c.max_speed)},
       {"PF_CELL_CAP", std::to_string(c.cell_capacity) + "u"},
+      {"PF_CELL_CAP_UP", std::to_string(c.cell_capacity_up) + "u"},
+      {"PF_LEVELS", std::to_string(c.cell_levels) + "u"},
+      {"PF_LEVEL_R0", flt(c.level_radius * (1 + 1e-6))},  // (a sphere of exactly level_radius in level 0)
       {"PF_WALL_ITERATIONS", std::to_string(kWallIterations)},
       {"PF_RL2", flt(c.list_reach * c.list_reach)},
       {"PF_HALF_SKIN2", flt(0.25 * c.skin * c.skin)},
@@ -235,7 +238,8 @@ std::vector<std::vector<uint32_t>> StepKernels::neighbour_lists() {
   s.cells.require_domain();
   insert_cells(true);
   const size_t n = s.n;
-  const cl_uint max_out = 256;
+  // (a large sphere among small ones has about as many as the lists hold)
+  const cl_uint max_out = std::max<cl_uint>(256, s.constants.list_capacity);
   DeviceArray<cl_uint> counts(s.device, "neighbour counts"), lists(s.device, "neighbour lists");
   counts.reset(n);
   lists.reset(n * max_out);
@@ -246,7 +250,8 @@ std::vector<std::vector<uint32_t>> StepKernels::neighbour_lists() {
   const std::vector<cl_uint> c = counts.read(n), l = lists.read(n * max_out);
   std::vector<std::vector<uint32_t>> out(n);
   for (size_t i = 0; i < n; ++i) {
-    if (c[i] > max_out) throw Error("engine: particle " + std::to_string(i) + " has more than 256 neighbours");
+    if (c[i] > max_out)
+      throw Error("engine: particle " + std::to_string(i) + " has more than " + std::to_string(max_out) + " neighbours");
     out[i].assign(l.begin() + i * max_out, l.begin() + i * max_out + c[i]);
   }
   return out;

@@ -117,6 +117,11 @@ class Engine final : public ParticleEngine {
   /// For tests: each particle's neighbour indices as the cell list finds
   /// them (pairs with d^2 < max(rc^2, (r_i + r_j)^2)), unsorted. Blocking.
   std::vector<std::vector<uint32_t>> neighbour_lists();
+  /// For tests: each particle's neighbour list as the step form's last
+  /// step built it (or a birth or removal edited it), in row order; with
+  /// Newton's third law (DeviceChoices::newton) each pair is in one of its
+  /// two particles' lists. Empty lists before the first step. Blocking.
+  std::vector<std::vector<uint32_t>> step_lists();
 
   /// With a profiling Device: seconds spent in each kernel since the last
   /// call (blocking); empty otherwise.

@@ -172,14 +172,23 @@ struct EngineConstants {
   double damping_factor = 1; ///< exp(-damping dt)
   double contact_distance = 0; ///< the rest distance: contacts damp while d < max(r_i + r_j, this)
   double dashpot = 0;        ///< 2 zeta sqrt(k): contact damping (physics.cl pf_contact_damping)
-  double cell_size = 0;      ///< cell edge: the list reach
+  double cell_size = 0;      ///< cell edge of level 0: the reach of its largest pair plus the skin
+  /// Unequal spheres of radii up to 1:2^k or more: the cells come in
+  /// levels (Ogarko and Luding 2012), level L for the spheres of radius
+  /// above level_radius 2^(L-1) and up to level_radius 2^L (level 0 from
+  /// the smallest, the top to max_radius), its cells 2^L cell_size wide
+  /// (nested: the largest pair of a level reaches one cell of it).
+  /// 1 otherwise: one grid, as equal spheres.
+  unsigned cell_levels = 1;
+  double level_radius = 0;   ///< the largest radius of level 0 (max_radius with one level)
   double max_radius = 0;
   /// EngineParams::pair_scaling resolved: each pair's sigma, cutoff, rest
   /// distance and dashpot scale with (r_i + r_j) / (2 radius) (physics.cl
   /// PF_DEFINE_PAIR_SCALE2); otherwise every pair runs at scale 1 (equal
   /// spheres, as before).
   bool polydisperse = false;
-  unsigned cell_capacity = 0;  ///< particles a cell can list (more are dropped and counted as overflow)
+  unsigned cell_capacity = 0;  ///< particles a cell of level 0 can list (more are dropped and counted as overflow)
+  unsigned cell_capacity_up = 0;  ///< particles a cell of a level above 0 can list (cell_capacity with one level)
   double skin = 0;             ///< neighbour-list skin
   double list_reach = 0;       ///< max(q cutoff, 2 max_radius, q rest distance) + skin, q = max_radius / radius when polydisperse, else 1
   unsigned list_capacity = 0;  ///< neighbours a list can hold (more are dropped and counted as overflow)
