@@ -200,7 +200,7 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
  * partners of a large sphere) are read from the cells by pf_build_list. */
 #define PF_STENCIL_CAP                                                                                  \
   (PF_STENCIL_CELLS * (PF_CELL_CAP > PF_CELL_CAP_UP ? PF_CELL_CAP : PF_CELL_CAP_UP) +                   \
-   27u * (PF_LEVELS - 1u) * PF_CELL_CAP_UP + 8u)
+   27u * (PF_LEVELS - 1u) * PF_CELL_CAP_UP + 16u) /* (+ 8 of padding before the levels above) */
 #else
 #define PF_STENCIL_CAP (PF_STENCIL_CELLS * PF_CELL_CAP + 8u) /* 8 lanes of slack past the last */
 #endif
@@ -211,6 +211,9 @@ typedef struct {
 #endif
   uint e[PF_STENCIL_CAP]; /* as row entries (PF_ENTRY) */
   uint count, own;        /* candidates; the cell's own ones ([0, own)) */
+#if PF_LEVELS > 1
+  uint upper;             /* the levels above from here on (a multiple of 8; unsorted) */
+#endif
   uint cell;              /* whose stencil (UINT_MAX: none yet) */
   uint bits;              /* the overflow bit, where a cell of the stencil overflowed */
 } pf_stencil;
@@ -218,7 +221,7 @@ typedef struct {
 /* Copies the listed particles of a cell (its count word counts[cell], its
  * slots `block`, `cap` of them) to the end of st's candidates, in index order. */
 void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell, __global const float* block,
-                          uint cap) {
+                          uint cap, bool sorted) {
   const uint m = pf_cell_listed_cap(counts, cell, cap, &st->bits), at = st->count;
   for (uint k = 0; k < m; k += 8u) { /* whole chunks; the lanes past m are overwritten or never read */
     __global const float* chunk = block + 5u * k;
@@ -230,7 +233,7 @@ void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell
 #endif
     vstore8(as_uint8(vload8(4, chunk)) << 4u, 0, st->e + at + k);
   }
-  for (uint k = at + 1u; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
+  for (uint k = sorted ? at + 1u : at + m; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
     const uint e = st->e[k];
     const float x = st->x[k], y = st->y[k], z = st->z[k];
 #if PF_POLY
@@ -259,7 +262,7 @@ void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell
 
 /* Copies level-0 cell `cell`'s listed particles to the end of st's candidates, in index order. */
 void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const float* slots, uint cell) {
-  pf_stencil_add_block(st, counts, cell, slots + cell * PF_BLOCK, PF_CELL_CAP);
+  pf_stencil_add_block(st, counts, cell, slots + cell * PF_BLOCK, PF_CELL_CAP, true);
 }
 
 #if PF_LEVELS > 1
@@ -271,14 +274,14 @@ uint pf_stencil_key(float r, int4 c, int4 cell_dims) {
   return g.first + pf_cell_index(c >> (int4)((int)own), g.dims);
 }
 
-/* Copies the cells [lo, hi] of level grid g, in (z, y, x) order. */
+/* Copies the cells [lo, hi] of level grid g, in (z, y, x) order, each sorted or not. */
 void pf_stencil_add_span(pf_stencil* st, __global const uint* counts, __global const float* slots, pf_level g,
-                         int4 lo, int4 hi) {
+                         int4 lo, int4 hi, bool sorted) {
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
-        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap);
+        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap, sorted);
       }
 }
 
@@ -294,18 +297,29 @@ void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __glo
   st->cell = g.first + pf_cell_index(c, g.dims);
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), g.dims - (int4)(1));
 #if PF_NEWTON
-  pf_stencil_add_block(st, counts, st->cell, slots + g.slot0 + (st->cell - g.first) * 5u * g.cap, g.cap);
+  pf_stencil_add_block(st, counts, st->cell, slots + g.slot0 + (st->cell - g.first) * 5u * g.cap, g.cap, true);
   st->own = st->count;
   for (int cz = c.z; cz <= hi.z; ++cz)
     for (int cy = cz == c.z ? c.y : lo.y; cy <= hi.y; ++cy)
       for (int cx = cz == c.z && cy == c.y ? c.x + 1 : lo.x; cx <= hi.x; ++cx) {
         const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
-        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap);
+        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap, true);
       }
 #else
   st->own = 0u;
-  pf_stencil_add_span(st, counts, slots, g, lo, hi);
+  pf_stencil_add_span(st, counts, slots, g, lo, hi, true);
 #endif
+  /* The levels above start at a multiple of 8, after candidates too far
+   * to list, and are not sorted: a small sphere's run of its cell is
+   * short (its cells are small), so it would sort many large candidates
+   * for each of it; pf_build_list sorts the few it lists instead. */
+  while (st->count % 8u != 0u) {
+    st->x[st->count] = st->y[st->count] = st->z[st->count] = 1e30f; /* (d^2 overflows to infinity: never listed) */
+    st->r[st->count] = 0.0f;
+    st->e[st->count] = 0u;
+    ++st->count;
+  }
+  st->upper = st->count;
   /* the levels above: their cells within the reach of the two levels'
    * largest pair from the cell's box (in level-0 cells [c 2^own, (c + 1)
    * 2^own); a particle outside the grid, clamped into it, is only farther
@@ -320,7 +334,7 @@ void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __glo
     pf_level_span(c, own, level, up.dims, &ulo, &uhi);
     ulo = max(convert_int4_rtn((box_lo - reach) * to_level), ulo);
     uhi = min(convert_int4_rtn((box_hi + reach) * to_level), uhi);
-    pf_stencil_add_span(st, counts, slots, up, ulo, uhi);
+    pf_stencil_add_span(st, counts, slots, up, ulo, uhi, false);
   }
 }
 #else
@@ -401,7 +415,13 @@ uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global const uint*
                    int4 c, int4 cell_dims, __global uint* row, uint* bits) {
   uint found = 0u;
   const uint8 ei = (uint8)(PF_ENTRY(i));
+#if PF_LEVELS > 1
+  uint found_own = 0u; /* the entries before the levels above */
+#endif
   for (uint k = 0; k < st->count; k += 8u) {
+#if PF_LEVELS > 1
+    if (k == st->upper) found_own = found;
+#endif
     const float8 dx = xi.x - vload8(0, st->x + k), dy = xi.y - vload8(0, st->y + k), dz = xi.z - vload8(0, st->z + k);
     const uint8 e = vload8(0, st->e + k);
     const uint8 lane = (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u) + (uint8)(k);
@@ -421,8 +441,15 @@ uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global const uint*
     pf_store_hits8(row, found, e, near, PF_ENTRY(i));
     found += pf_count8(near);
   }
-#if PF_LEVELS > 1 && !PF_NEWTON
+#if PF_LEVELS > 1
+  if (st->upper >= st->count) found_own = found;
+  {
+    const uint from = min(found_own, PF_LIST_CAP); /* the levels above' entries in index order */
+    pf_sort_row(row + from, min(found, PF_LIST_CAP) - from);
+  }
+#if !PF_NEWTON
   found = pf_list_levels_below(i, xi, counts, slots, c, cell_dims, row, found, bits);
+#endif
 #endif
   *bits |= st->bits;
   if (found > PF_LIST_CAP) {
