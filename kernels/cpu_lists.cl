@@ -288,7 +288,7 @@ void pf_stencil_add_span(pf_stencil* st, __global const uint* counts, __global c
 /* st becomes the stencil of a particle of radius r in level-0 cell c0
  * (cell levels: see PF_STENCIL_CAP). */
 void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c0,
-                              float r, int4 cell_dims, float cell_inv) {
+                              float r, int4 cell_dims, float cell_inv, uint level_mask) {
   st->count = 0u;
   st->bits = 0u;
   const uint own = pf_level_of(r);
@@ -327,6 +327,7 @@ void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __glo
    * cells less far than two large ones do */
   const float4 box_lo = convert_float4(c * (int4)(1 << own)), box_hi = convert_float4((c + (int4)(1)) * (int4)(1 << own));
   for (uint level = own + 1u; level < PF_LEVELS; ++level) {
+    if ((level_mask & (1u << level)) == 0u) continue; /* no particle was ever of that level */
     const pf_level up = pf_level_at(cell_dims, level);
     const float reach = 1.0001f * cell_inv * PF_PAIR_REACH(PF_LEVEL_R0 * (float)((1u << own) + (1u << level)));
     const float to_level = 1.0f / (float)(1u << level);
@@ -342,11 +343,12 @@ uint pf_stencil_key(float r, int4 c, int4 cell_dims) { return pf_cell_index(c, c
 #endif
 
 /* st becomes the stencil of a particle of radius r in the cell at
- * coordinates c (cell_inv: 1 / level 0's cell edge). */
+ * coordinates c (cell_inv: 1 / level 0's cell edge; level_mask: the cell
+ * levels that may hold particles, a bit each, Engine's). */
 void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global const float* slots, int4 c, float r,
-                       int4 cell_dims, float cell_inv) {
+                       int4 cell_dims, float cell_inv, uint level_mask) {
 #if PF_LEVELS > 1
-  pf_stencil_gather_levels(st, counts, slots, c, r, cell_dims, cell_inv);
+  pf_stencil_gather_levels(st, counts, slots, c, r, cell_dims, cell_inv, level_mask);
   return;
 #endif
   st->count = 0u;
@@ -376,10 +378,11 @@ void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global con
  * (the cells hold them in the order of their atomic insertions). Returns
  * the new count (the overflow bit in *bits past PF_LIST_CAP). */
 uint pf_list_levels_below(uint i, float4 xi, __global const uint* counts, __global const float* slots, int4 c0,
-                          int4 cell_dims, __global uint* row, uint found, uint* bits) {
+                          int4 cell_dims, uint level_mask, __global uint* row, uint found, uint* bits) {
   const uint own = pf_level_of(xi.w), first = found;
   const int4 c = c0 >> (int4)((int)own);
   for (uint level = 0u; level < own; ++level) {
+    if ((level_mask & (1u << level)) == 0u) continue; /* no particle was ever of that level */
     const pf_level g = pf_level_at(cell_dims, level);
     int4 lo, hi;
     pf_level_span(c, own, level, g.dims, &lo, &hi);
@@ -412,7 +415,7 @@ uint pf_list_levels_below(uint i, float4 xi, __global const uint* counts, __glob
  * Returns the count (capped at PF_LIST_CAP; more set the overflow bit in
  * *bits, as does a stencil cell that overflowed). */
 uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global const uint* counts, __global const float* slots,
-                   int4 c, int4 cell_dims, __global uint* row, uint* bits) {
+                   int4 c, int4 cell_dims, uint level_mask, __global uint* row, uint* bits) {
   uint found = 0u;
   const uint8 ei = (uint8)(PF_ENTRY(i));
 #if PF_LEVELS > 1
@@ -448,7 +451,7 @@ uint pf_build_list(uint i, float4 xi, const pf_stencil* st, __global const uint*
     pf_sort_row(row + from, min(found, PF_LIST_CAP) - from);
   }
 #if !PF_NEWTON
-  found = pf_list_levels_below(i, xi, counts, slots, c, cell_dims, row, found, bits);
+  found = pf_list_levels_below(i, xi, counts, slots, c, cell_dims, level_mask, row, found, bits);
 #endif
 #endif
   *bits |= st->bits;

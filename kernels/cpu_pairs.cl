@@ -286,7 +286,7 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
     __global uint* list, __global uint* list_count, __global float4* XREF, __global uint* build_bits,
     __global const uint* request, const uint request_read, const uint force_rebuild, __global float4* F,
     const uint force_stride, const int4 sort_rows, __global uint* inner_list, __global uint2* inner_count,
-    __global float4* XPRUNE, __global uint2* spans, __global uint2* force_spans) {
+    __global float4* XPRUNE, __global uint2* spans, __global uint2* force_spans, const uint level_mask) {
   const uint w = get_global_id(0), per = (n + get_global_size(0) - 1u) / get_global_size(0);
   const uint end = min(n, (w + 1u) * per);
   __global float4* Fw = PF_NEWTON ? F + (size_t)w * force_stride : F;
@@ -333,10 +333,10 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       if (st[newest].cell != cell) {
         newest = 1u - newest;
         if (st[newest].cell != cell)
-          pf_stencil_gather(&st[newest], counts + cell_base, slots, c, xi.w, cell_dims, cell_inv.x);
+          pf_stencil_gather(&st[newest], counts + cell_base, slots, c, xi.w, cell_dims, cell_inv.x, level_mask);
       }
       uint bits = 0u;
-      count = pf_build_list(i, xi, &st[newest], counts + cell_base, slots, c, cell_dims, row, &bits);
+      count = pf_build_list(i, xi, &st[newest], counts + cell_base, slots, c, cell_dims, level_mask, row, &bits);
       list_count[i] = count;
 #if PF_NEWTON
       const uint room = min(count + PF_ROW_SLACK, PF_LIST_CAP);

@@ -26,6 +26,16 @@ cl_float4 f4(double x, double y, double z, double w) {
   return v;
 }
 
+// The bit of the cell level a sphere of radius r falls in (cells.cl
+// pf_level_of, in floats as the kernels compare), and its neighbours' (so
+// that a rounding on the way cannot leave its level out).
+cl_uint cell_level_bits(const EngineConstants& c, double r) {
+  const float r0 = static_cast<float>(c.level_radius * (1 + 1e-6)), rf = static_cast<float>(r);
+  unsigned level = 0;
+  while (level + 1 < c.cell_levels && rf > r0 * static_cast<float>(1u << level)) ++level;
+  return (7u << level) >> 1;
+}
+
 }  // namespace
 
 struct Engine::Impl {
@@ -75,6 +85,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
     xs.push_back(f4(p.position.x, p.position.y, p.position.z, p.radius));
     vs.push_back(f4(p.velocity.x, p.velocity.y, p.velocity.z, 1 / mass));
   }
+  for (const Particle& p : particles) s.level_mask |= cell_level_bits(s.constants, p.radius);
   impl_->form->reserve(first + particles.size());
   for (const Particle& p : particles) s.particles.ids.push_back(p.id);
   if (particles.size() == 1 && s.lists.valid && s.lists.newcomers.size() < 4) {  // linked into the lists in place

@@ -142,7 +142,7 @@ void StepKernels::bind_shared(Kernel& k, bool force_rebuild) {
   StepHistory& r = *s.records;
   k.bind("X", p.x()).bind("V", p.v()).bind("flags", p.flags).bind("C", p.clearance).bind("n", cl_uint(s.n));
   k.bind("counts", c.counts).bind("slots", c.slots).bind("cell_base", c.base(t)).bind("cell_origin", c.origin);
-  k.bind("cell_inv", c.inv).bind("cell_dims", c.dims);
+  k.bind("cell_inv", c.inv).bind("cell_dims", c.dims).bind("level_mask", s.level_mask);
   k.bind("list", l.rows).bind("list_count", l.counts).bind("XREF", l.origins).bind("spans", l.spans);
   k.bind("inner_list", l.inner_rows).bind("inner_count", l.inner_counts).bind("XPRUNE", l.prune_origins);
   k.bind("sort_rows", l.sort_rows()).bind("request", l.requests);
