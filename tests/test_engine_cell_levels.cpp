@@ -59,16 +59,21 @@ EngineParams params_for(const Form& f, double cutoff_sigma) {
 }
 
 // `large` spheres of kLarge, then `small` of kSmall and a few of 2.2 and
-// 4.5 kSmall (levels 1 and 2), in a ball of radius R: centres inside by
+// 4.5 kSmall (levels 1 and 2; none with `middle` false: the kernels then
+// skip the empty levels), in a ball of radius R: centres inside by
 // their own radius, pairwise at least 0.9 (r_i + r_j) apart, velocities
 // uniform in [-speed, speed]^3. Deterministic for a seed.
-std::vector<Particle> ten_to_one(size_t large, size_t small, double R, double speed, unsigned seed) {
+std::vector<Particle> ten_to_one(size_t large, size_t small, double R, double speed, unsigned seed,
+                                 bool middle = true) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> pos(-R, R), vel(-speed, speed), u(0, 1);
   std::vector<Particle> out;
   for (size_t tries = 0; out.size() < large + small && tries < 400000; ++tries) {
     const double draw = u(rng);
-    const double r = out.size() < large ? kLarge : draw < 0.03 ? 2.2 * kSmall : draw < 0.05 ? 4.5 * kSmall : kSmall;
+    const double r = out.size() < large            ? kLarge
+                     : middle && draw < 0.03 ? 2.2 * kSmall
+                     : middle && draw < 0.05 ? 4.5 * kSmall
+                                             : kSmall;
     const Vec3 x{pos(rng), pos(rng), pos(rng)};
     if (length(x) > R - r) continue;
     bool ok = true;
@@ -135,12 +140,14 @@ TEST_CASE("cell levels: unequal spheres of radii 1:2 and more get nested levels;
 
 TEST_CASE("cell levels: every form's lists equal a brute-force pair search on a 1:10 mix") {
   const double R = 8.0;
-  const auto start = ten_to_one(5, 3000, R, 0.5, 11);
-  REQUIRE(start.size() == 3005);
   const ScalarGrid field = sphere_grid(R, 0.25);
-  for (double cutoff : {0.0, 2.5}) {
+  for (int mix = 0; mix < 4; ++mix) {
+    const bool middle = mix < 2;
+    const double cutoff = mix % 2 == 0 ? 0.0 : 2.5;
+    const auto start = ten_to_one(5, 3000, R, 0.5, 11, middle);
+    REQUIRE(start.size() == 3005);
     for (const Form& f : kForms) {
-      INFO("form " << std::string(f.name) << ", cutoff " << cutoff);
+      INFO("form " << std::string(f.name) << ", cutoff " << cutoff << (middle ? ", levels 1, 2 too" : ", levels 0, 3"));
       Engine engine(shared_device(), params_for(f, cutoff));
       REQUIRE(engine.constants().cell_levels == 4);
       engine.set_field(field);
