@@ -35,8 +35,8 @@ unsigned cell_capacity_for(double edge, double s) {
 // The cell levels (EngineConstants::cell_levels): with unequal spheres
 // of radii 1:2 or more, level 0 holds radii up to level_radius in cells
 // its largest pair reaches, and each level up twice the radii in cells
-// twice as wide, so that a small sphere's cells hold small spheres only
-// (one grid sized for the largest pair put ~1,000 in each at 1:10).
+// twice as wide, so that a small sphere's cells hold small spheres only,
+// not the many that fit in a cell sized for the largest pair.
 void derive_cells(const EngineParams& p, double rest, EngineConstants& c) {
   const double ratio = c.max_radius / p.radius;
   c.cell_levels = c.polydisperse && ratio >= 2 ? std::min(1 + static_cast<unsigned>(std::floor(std::log2(ratio))), 8u) : 1;
