@@ -471,7 +471,8 @@ int main(int argc, char** argv) {
         equal_case = j;
       } else if (!equal_case.is_null() && equal_case["n"] == j["n"] && equal_case["cutoff"] == j["cutoff"]) {
         // the cost per particle-step against the equal spheres' line above (same N, packing, cutoff)
-        j["cost_vs_equal"] = equal_case["particle_steps_per_second"].get<double>() / j["particle_steps_per_second"].get<double>();
+        j["cost_vs_equal"] =
+            equal_case["particle_steps_per_second"].get<double>() / j["particle_steps_per_second"].get<double>();
         j["cpu_cost_vs_equal"] = j["cpu_us_per_step"].get<double>() / equal_case["cpu_us_per_step"].get<double>();
         std::printf("  radii 1:%g half by number, cost per particle-step / equal spheres': %.2fx wall, %.2fx cpu\n",
                     c.radii_ratio, j["cost_vs_equal"].get<double>(), j["cpu_cost_vs_equal"].get<double>());

@@ -325,7 +325,8 @@ void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __glo
    * 2^own); a particle outside the grid, clamped into it, is only farther
    * from the others), not all 27: a small sphere reaches a large one's
    * cells less far than two large ones do */
-  const float4 box_lo = convert_float4(c * (int4)(1 << own)), box_hi = convert_float4((c + (int4)(1)) * (int4)(1 << own));
+  const float4 box_lo = convert_float4(c * (int4)(1 << own));
+  const float4 box_hi = convert_float4((c + (int4)(1)) * (int4)(1 << own));
   for (uint level = own + 1u; level < PF_LEVELS; ++level) {
     if ((level_mask & (1u << level)) == 0u) continue; /* no particle was ever of that level */
     const pf_level up = pf_level_at(cell_dims, level);

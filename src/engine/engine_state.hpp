@@ -31,7 +31,7 @@ struct EngineState {
   EngineParams params;        // as given, with the skin made the chosen one
   EngineConstants constants;  // derived from `params`
   size_t n = 0;               // particles
-  cl_uint level_mask = 0;     // the cell levels any particle added so far falls in (a bit each; kernels skip the others)
+  cl_uint level_mask = 0;     // the cell levels a particle added so far fell in (a bit each; kernels skip others)
   uint64_t steps = 0;         // steps enqueued
   ParticleArrays particles;
   NeighbourLists lists;       // the lists, their request words, the births linked in

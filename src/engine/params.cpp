@@ -39,15 +39,16 @@ unsigned cell_capacity_for(double edge, double s) {
 // not the many that fit in a cell sized for the largest pair.
 void derive_cells(const EngineParams& p, double rest, EngineConstants& c) {
   const double ratio = c.max_radius / p.radius;
-  c.cell_levels = c.polydisperse && ratio >= 2 ? std::min(1 + static_cast<unsigned>(std::floor(std::log2(ratio))), 8u) : 1;
+  const unsigned doublings = ratio >= 2 ? static_cast<unsigned>(std::floor(std::log2(ratio))) : 0;
+  c.cell_levels = c.polydisperse ? std::min(1 + doublings, 8u) : 1;
   c.level_radius = c.max_radius / std::ldexp(1.0, static_cast<int>(c.cell_levels) - 1);
   const double q0 = c.level_radius / p.radius;  // level 0's largest pair scale
   c.cell_size = c.cell_levels == 1 ? c.list_reach
                                    : std::max({c.cutoff * q0, 2 * c.level_radius, rest * q0}) + c.skin;
   c.cell_capacity = cell_capacity_for(c.cell_size, 0.8 * std::min(2 * p.radius, rest));
   // a level above 0 holds radii above half its largest, in cells twice level 0's ratio to it
-  c.cell_capacity_up = c.cell_levels == 1 ? c.cell_capacity
-                                          : cell_capacity_for(2 * c.cell_size, 0.8 * std::min(2 * c.level_radius, rest * q0));
+  const double up_diameter = 0.8 * std::min(2 * c.level_radius, rest * q0);
+  c.cell_capacity_up = c.cell_levels == 1 ? c.cell_capacity : cell_capacity_for(2 * c.cell_size, up_diameter);
 }
 
 }  // namespace
