@@ -24,8 +24,11 @@
  * three steps: step t makes level-1 partials (L1), step t+1 sums chunks of
  * PF_WG of them into level-2 partials (L2), and step t+2 sums those into
  * the HISTORY record of step t: kinetic energy, max speed^2, max
- * displacement^2, lists rebuilt (0/1), then as uints: colliding pairs,
- * flagged particles, cell-overflow hits, particle count. On GPUs
+ * displacement^2, lists rebuilt (0/1; under FIRE the power instead), then
+ * as uints: colliding pairs, flagged particles, cell-overflow hits,
+ * particle count. The work-item that writes step t's record in step t + 2
+ * also writes FIRE's state for step t + 3 (pf_fire_after), so that FIRE
+ * costs no launch and no transfer: it acts three steps late. On GPUs
  * (gpu_step.cl) L1 holds one sum a work-group, made in local memory, and
  * the chunk and final sums are group sums too (two levels: PF_WG_ROOT
  * items sum PF_WG / PF_WG_ROOT records each, then one item sums theirs).
@@ -69,6 +72,18 @@
 #define PF_FIX_MAX 1.0e6f
 #endif
 
+#ifndef PF_FIRE
+#define PF_FIRE 0
+#define PF_STEP_CAP 0.05f
+#define PF_FIRE_DT_MAX 0.01f
+#define PF_FIRE_DT_MIN 0.0001f
+#define PF_FIRE_GROW 1.1f
+#define PF_FIRE_SHRINK 0.5f
+#define PF_FIRE_ALPHA_START 0.1f
+#define PF_FIRE_ALPHA_SHRINK 0.99f
+#define PF_FIRE_DELAY 5.0f
+#endif
+
 #ifndef PF_POLY
 #define PF_POLY 0
 #define PF_RS_REF 1.0f
@@ -110,17 +125,21 @@
 #define PF_REQUEST_PRUNE 0x2u
 
 /* A particle's record: (kinetic energy, speed^2, displacement^2, lists
- * rebuilt, then as uints: colliding pairs, flagged, cell overflow, count).
- * Squares: their maxima are the squares of the maxima, so the host takes
- * the one square root of each, not every particle. */
-float8 pf_record(float ke, float speed2, float disp2, uint rebuilt, uint pairs, uint flagged, uint overflow, uint n) {
-  return (float8)(ke, speed2, disp2, (float)rebuilt, as_float4((uint4)(pairs, flagged, overflow, n)));
+ * rebuilt or power, then as uints: colliding pairs, flagged, cell
+ * overflow, count). Squares: their maxima are the squares of the maxima,
+ * so the host takes the one square root of each, not every particle. The
+ * fourth is summed: in a FIRE engine (PF_FIRE) it is the particle's power
+ * F.v, whose sum the FIRE state needs; otherwise 1 for the one work-item
+ * that says the step rebuilt the lists and 0 for all others, so its sum
+ * is that flag. */
+float8 pf_record(float ke, float speed2, float disp2, float fourth, uint pairs, uint flagged, uint overflow, uint n) {
+  return (float8)(ke, speed2, disp2, fourth, as_float4((uint4)(pairs, flagged, overflow, n)));
 }
 
 /* Two records as one: sums, maxima, counts summed, the particle count the larger. */
 float8 pf_record_merge(float8 a, float8 b) {
   const uint4 ua = as_uint4(a.s4567), ub = as_uint4(b.s4567);
-  return (float8)(a.s0 + b.s0, fmax(a.s1, b.s1), fmax(a.s2, b.s2), fmax(a.s3, b.s3),
+  return (float8)(a.s0 + b.s0, fmax(a.s1, b.s1), fmax(a.s2, b.s2), a.s3 + b.s3,
                   as_float4((uint4)(ua.x + ub.x, ua.y + ub.y, ua.z + ub.z, max(ua.w, ub.w))));
 }
 
@@ -142,7 +161,7 @@ float8 pf_partials_strided(__global const float8* src, uint count, uint lid) {
  * fmax, and a, built from such merges, holds none. */
 float8 pf_partial_add(float8 a, float8 b) {
   const uint4 ua = as_uint4(a.s4567), ub = as_uint4(b.s4567);
-  return (float8)(a.s0 + b.s0, b.s1 > a.s1 ? b.s1 : a.s1, b.s2 > a.s2 ? b.s2 : a.s2, b.s3 > a.s3 ? b.s3 : a.s3,
+  return (float8)(a.s0 + b.s0, b.s1 > a.s1 ? b.s1 : a.s1, b.s2 > a.s2 ? b.s2 : a.s2, a.s3 + b.s3,
                   as_float4((uint4)(ua.x + ub.x, ua.y + ub.y, ua.z + ub.z, max(ua.w, ub.w))));
 }
 
@@ -192,3 +211,53 @@ float8 pf_group_sums(__local float8* part, __local float8* mid, uint lid, uint n
 float pf_norm2(float4 a) { return fma(a.z, a.z, fma(a.y, a.y, a.x * a.x)); }
 float8 pf_norm2_8(float8 x, float8 y, float8 z) { return fma(z, z, fma(y, y, x * x)); }
 
+
+#if PF_FIRE
+/* The FIRE state (physics.cl pf_fire_state) as the engine keeps it on the
+ * device, a float8 for each of two steps in turn (step t reads fire[t % 2]
+ * and its record-summing work-item writes fire[(t + 1) % 2]): (dt, alpha,
+ * backtrack, positive, restarts, restart step as uint bits, 0, 0). */
+pf_fire_state pf_fire_load(float8 v) {
+  pf_fire_state s;
+  s.dt = v.s0;
+  s.alpha = v.s1;
+  s.backtrack = v.s2;
+  s.positive = v.s3;
+  s.restarts = v.s4;
+  s.restart_step = as_uint(v.s5);
+  return s;
+}
+float8 pf_fire_save(pf_fire_state s) {
+  return (float8)(s.dt, s.alpha, s.backtrack, s.positive, s.restarts, as_float(s.restart_step), 0.0f, 0.0f);
+}
+/* The schedule's constants (EngineParams::fire) from the prelude. */
+pf_fire_rule pf_fire_rule_here(void) {
+  pf_fire_rule r;
+  r.dt_max = PF_FIRE_DT_MAX;
+  r.dt_min = PF_FIRE_DT_MIN;
+  r.grow = PF_FIRE_GROW;
+  r.shrink = PF_FIRE_SHRINK;
+  r.alpha_start = PF_FIRE_ALPHA_START;
+  r.alpha_shrink = PF_FIRE_ALPHA_SHRINK;
+  r.delay = PF_FIRE_DELAY;
+  return r;
+}
+/* The state for the step after `step` (which read `now`), from the record
+ * of step - 2 (its fourth: the power) where `have` (the steps in flight). */
+float8 pf_fire_after(float8 now, float8 record, uint have, uint step) {
+  pf_fire_state s = pf_fire_load(now);
+  if (have) s = pf_fire_next(s, pf_fire_rule_here(), record.s3, step - 2u, step + 1u);
+  return pf_fire_save(s);
+}
+/* finalize_history's part: the FIRE state for step step_last + 1
+ * (fire[slot]) after the records of the steps in flight, the one before
+ * the last (prev, where have_prev) and then the last. */
+void pf_fire_finish(__global float8* fire, uint slot, uint step_last, float8 prev, uint have_prev, float8 last,
+                    uint have_last) {
+  pf_fire_state s = pf_fire_load(fire[slot]);
+  const pf_fire_rule r = pf_fire_rule_here();
+  if (have_prev) s = pf_fire_next(s, r, prev.s3, step_last - 1u, step_last + 1u);
+  if (have_last) s = pf_fire_next(s, r, last.s3, step_last, step_last + 1u);
+  fire[slot] = pf_fire_save(s);
+}
+#endif

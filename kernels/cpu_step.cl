@@ -16,6 +16,7 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
 
 /* physics.cl's rules at 8 lanes. */
 PF_DEFINE_KICK_DRIFT(pf_kick_drift8, float8)
+PF_DEFINE_FIRE_KICK_DRIFT(pf_fire_kick_drift8, float8, int8)
 PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change8, float8)
 #define PF_SAMPLE8(PX, PY, PZ, G) pf_field_sample8(sdf, sdf_dims, sdf_origin, PX, PY, PZ, G)
 PF_DEFINE_WALL_PUSH(pf_wall_push8, float8, int8, pf_any8, PF_SAMPLE8, pf_wall_velocity_change8, PF_FIELD_ARG sdf,
@@ -62,7 +63,8 @@ pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sd
 float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG sdf, float4 sdf_origin,
                    int4 sdf_dims, __global uint* flags, __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
                    __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
-                   uint force_stride, __global const uint2* force_spans, __global const uint* build_bits, uint n) {
+                   uint force_stride, __global const uint2* force_spans, __global const uint* build_bits, uint n,
+                   float8 fire_now, uint step_index) {
   const uint live_count = min(8u, n - i0);
   const int8 live = (int8)(0, 1, 2, 3, 4, 5, 6, 7) < (int8)((int)live_count);
   float4 xs[8], vs[8], t[8];
@@ -96,8 +98,21 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
   }
   uint8 bits = rebuild ? vload8(0, build_bits + i0) : (uint8)(0u);
   float8 ux = vx, uy = vy, uz = vz, px = x, py = y, pz = z;
+#if PF_FIRE
+  /* the FIRE state's step, and the speed cap that keeps a step's move at PF_STEP_CAP */
+  const float dt = fire_now.s0, vmax = PF_STEP_CAP / dt;
+  const int8 restart = (int8)(as_uint(fire_now.s5) == step_index ? -1 : 0);
+  float8 power;
+  const float8 speed = pf_fire_kick_drift8(&ux, &uy, &uz, &px, &py, &pz, fx, fy, fz, im, (float8)(dt),
+                                           (float8)(fire_now.s1), restart, (float8)(fire_now.s2), (float8)(vmax),
+                                           &power);
+  const float fourth = pf_hsum8(select((float8)(0.0f), power, live));
+#else
+  const float dt = PF_DT, vmax = PF_VMAX;
   const float8 speed =
       pf_kick_drift8(&ux, &uy, &uz, &px, &py, &pz, fx, fy, fz, im, (float8)(PF_DT), (float8)(PF_DAMP), (float8)(PF_VMAX));
+  const float fourth = rebuild && i0 == 0u ? 1.0f : 0.0f;
+#endif
   pf_lanes8 s;
   s.ux = ux;
   s.uy = uy;
@@ -105,11 +120,16 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
   s.px = px;
   s.py = py;
   s.pz = pz;
-  const int8 fast = speed > PF_VMAX; /* capped: at most PF_VMAX dt a step */
+  const int8 fast = speed > vmax; /* capped: at most vmax dt a step */
   if (sdf_dims.w != 0) {
     const float8 old_clearance = vload8(0, C + i0);
-    s.clearance = fma(-2.0f * PF_DT, select(speed, (float8)(PF_VMAX), fast), old_clearance);
+    s.clearance = fma(-2.0f * dt, select(speed, (float8)(vmax), fast), old_clearance);
+#if PF_FIRE
+    /* a restart's back-up moved the centres outside the bound's count: the wall looks at them all */
+    const int8 near = live & ((s.clearance <= 0.0f) | restart);
+#else
     const int8 near = live & (s.clearance <= 0.0f);
+#endif
     if (pf_any8(near)) {
       s = pf_wall8(s, near, r, sdf, sdf_origin, sdf_dims);
       if (pf_any8(s.flagged)) {
@@ -145,7 +165,7 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
   const float8 ke = 0.5f * u2 / im, disp2 = pf_norm2_8(s.px - x, s.py - y, s.pz - z);
   const uint8 one = (uint8)(1u), none = (uint8)(0u);
   return pf_record(pf_hsum8(select((float8)(0.0f), ke, live)), pf_hmax8(select((float8)(0.0f), u2, live)),
-                   pf_hmax8(select((float8)(0.0f), disp2, live)), rebuild && i0 == 0u ? 1u : 0u,
+                   pf_hmax8(select((float8)(0.0f), disp2, live)), fourth,
                    pf_hsum8u(select(none, convert_uint8(fw), live)),
                    pf_hsum8u(select(none, one, live & ((bits & PF_FLAGGED_BIT) != 0u))),
                    pf_hsum8u(select(none, one, live & ((bits & PF_OVERFLOW_BIT) != 0u))), n);
@@ -171,7 +191,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global float8* history, const uint slot_prev2, __global const float4* XREF, __global const float4* XPRUNE,
     __global uint* request, const uint request_read, const uint request_raise, const uint request_clear,
     const uint force_rebuild, __global float4* F, const uint force_groups, const uint force_stride,
-    __global const uint2* force_spans, __global const uint* build_bits) {
+    __global const uint2* force_spans, __global const uint* build_bits, __global float8* fire, const uint fire_read,
+    const uint fire_write, const uint step_index) {
   const uint i = get_global_id(0), lid = get_local_id(0), group = get_group_id(0);
   if (i == 0) request[request_clear] = 0u;
   float8 record = (float8)(0.0f);
@@ -181,7 +202,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   const uint rebuild = force_rebuild || (request[request_read] & PF_REQUEST_REBUILD);
   if (i < (n + 7u) / 8u) {
     L1_out[i] = pf_advance8(8u * i, X, V, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
-                            request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n);
+                            request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n,
+                            PF_FIRE ? fire[fire_read] : (float8)(0.0f), step_index);
   } else if (i == 0u) {
     L1_out[0] = record; /* no particles: one empty record */
   }
@@ -190,7 +212,13 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   /* chunk `group` by the group's first item, so that the chunks spread over the cores */
   if (lid == 0u && group < g2_prev)
     L2_out[group] = pf_partials_serial(L1_prev, group * PF_WG, min(g1_prev, (group + 1u) * PF_WG));
-  if (i == 0u && g2_prev2 > 0u) history[slot_prev2] = pf_partials_serial(L2_prev, 0u, g2_prev2);
+  if (i == 0u) {
+    const float8 h = g2_prev2 > 0u ? pf_partials_serial(L2_prev, 0u, g2_prev2) : (float8)(0.0f);
+    if (g2_prev2 > 0u) history[slot_prev2] = h;
+#if PF_FIRE
+    fire[fire_write] = pf_fire_after(fire[fire_read], h, g2_prev2 > 0u, step_index);
+#endif
+  }
 }
 
 /* Finishes the steps in flight (one work-group), by the same sums the
@@ -200,12 +228,18 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
  * its record. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_history(
     __global const float8* L1_last, const uint g1, __global float8* L2_scratch, __global const float8* L2_prev,
-    const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev) {
+    const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev, __global float8* fire,
+    const uint fire_slot, const uint step_last) {
   const uint lid = get_local_id(0);
   const uint g2 = (g1 + PF_WG - 1u) / PF_WG;
   if (lid != 0u) return;
   for (uint c = 0; c < g2; ++c) L2_scratch[c] = pf_partials_serial(L1_last, c * PF_WG, min(g1, (c + 1u) * PF_WG));
-  if (g2 > 0u) history[slot_last] = pf_partials_serial(L2_scratch, 0u, g2);
-  if (g2_prev > 0u) history[slot_prev] = pf_partials_serial(L2_prev, 0u, g2_prev);
+  const float8 last = g2 > 0u ? pf_partials_serial(L2_scratch, 0u, g2) : (float8)(0.0f);
+  const float8 prev = g2_prev > 0u ? pf_partials_serial(L2_prev, 0u, g2_prev) : (float8)(0.0f);
+  if (g2 > 0u) history[slot_last] = last;
+  if (g2_prev > 0u) history[slot_prev] = prev;
+#if PF_FIRE
+  pf_fire_finish(fire, fire_slot, step_last, prev, g2_prev > 0u, last, g2 > 0u);
+#endif
 }
 

@@ -19,15 +19,32 @@ PF_DEFINE_WALL_PUSH(pf_wall_push, float, int, PF_ANY1, PF_SAMPLE1, pf_wall_veloc
 float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint rebuilt, uint pairs,
                     __global float4* X_out, __global float4* V_out, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims,
                     __global uint* flags, __global float* C, __global const float4* XREF, __global uint* request,
-                    uint request_raise, uint n) {
+                    uint request_raise, uint n, float8 fire_now, uint step_index) {
   const float ri = xi.w, inv_mi = vi.w;
   float ux = vi.x, uy = vi.y, uz = vi.z, px = xi.x, py = xi.y, pz = xi.z;
+#if PF_FIRE
+  /* the FIRE state's step, and the speed cap that keeps a step's move at PF_STEP_CAP */
+  const float dt = fire_now.s0, vmax = PF_STEP_CAP / dt;
+  const int restart = as_uint(fire_now.s5) == step_index;
+  float fourth;
+  const float speed = pf_fire_kick_drift(&ux, &uy, &uz, &px, &py, &pz, force.x, force.y, force.z, inv_mi, dt,
+                                         fire_now.s1, restart, fire_now.s2, vmax, &fourth);
+#else
+  const float dt = PF_DT, vmax = PF_VMAX;
+  const float fourth = (float)rebuilt;
   const float speed =
       pf_kick_drift(&ux, &uy, &uz, &px, &py, &pz, force.x, force.y, force.z, inv_mi, PF_DT, PF_DAMP, PF_VMAX);
-  const float capped_speed = speed > PF_VMAX ? PF_VMAX : speed; /* |u| now */
+#endif
+  const float capped_speed = speed > vmax ? vmax : speed; /* |u| now */
   if (sdf_dims.w != 0) {
-    float clearance = fma(-2.0f * PF_DT, capped_speed, C[i]);
-    if (clearance <= 0.0f) {
+    float clearance = fma(-2.0f * dt, capped_speed, C[i]);
+#if PF_FIRE
+    /* a restart's back-up moved the centre outside the bound's count: the wall looks */
+    const int wall_due = clearance <= 0.0f || restart;
+#else
+    const int wall_due = clearance <= 0.0f;
+#endif
+    if (wall_due) {
       float g[3];
       float phi = PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z,
                                 sdf_origin.w, px, py, pz, g);
@@ -51,7 +68,7 @@ float8 pf_integrate(uint i, float4 xi, float4 vi, float4 force, uint bits, uint 
   V_out[i] = (float4)(u.x, u.y, u.z, inv_mi);
   if (pf_norm2(xn - XREF[i]) > PF_HALF_SKIN2) atomic_or(&request[request_raise], PF_REQUEST_REBUILD);
   const float u2 = pf_norm2(u);
-  return pf_record(0.5f * u2 / inv_mi, u2, pf_norm2(xn - xi), rebuilt, pairs, (bits & PF_FLAGGED_BIT) ? 1u : 0u,
+  return pf_record(0.5f * u2 / inv_mi, u2, pf_norm2(xn - xi), fourth, pairs, (bits & PF_FLAGGED_BIT) ? 1u : 0u,
                    (bits & PF_OVERFLOW_BIT) ? 1u : 0u, n);
 }
 
@@ -75,11 +92,13 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     const uint g1_prev, __global float8* L2_out, __global const float8* L2_prev, const uint g2_prev2,
     __global float8* history, const uint slot_prev2, __global uint* list, __global uint* list_count,
     __global float4* XREF, __global uint* request, const uint request_read, const uint request_raise,
-    const uint request_clear, const uint force_rebuild) {
+    const uint request_clear, const uint force_rebuild, __global float8* fire, const uint fire_read,
+    const uint fire_write, const uint step_index) {
   __local float8 part[3u * PF_WG];
   __local float8 mid[3u * PF_WG_ROOT];
   const uint i = get_global_id(0), lid = get_local_id(0), group = get_group_id(0);
   if (i == 0) request[request_clear] = 0u;
+  const float8 fire_now = PF_FIRE ? fire[fire_read] : (float8)(0.0f);
   float8 record = (float8)(0.0f);
   if (i < n) {
     const float4 xi = X[i];
@@ -155,7 +174,7 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     }
     const float4 force = (float4)((float)fx, (float)fy, (float)fz, 0.0f) * (1.0f / PF_FIX_SCALE);
     record = pf_integrate(i, xi, vi, force, bits, rebuilt, pairs, X_out, V_out, sdf, sdf_origin, sdf_dims, flags, C,
-                          XREF, request, request_raise, n);
+                          XREF, request, request_raise, n, fire_now, step_index);
   }
   /* the reductions: this step's level 1, the last step's level 2, the step before's record */
   const uint g2_prev = (g1_prev + PF_WG - 1u) / PF_WG;
@@ -168,6 +187,9 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
   if (lid == 0u && group < max((n + PF_WG - 1u) / PF_WG, 1u)) L1_out[group] = s;
   if (lid == 1u && group < g2_prev) L2_out[group] = s;
   if (lid == 2u && group == 0u && g2_prev2 > 0u) history[slot_prev2] = s;
+#if PF_FIRE
+  if (lid == 2u && group == 0u) fire[fire_write] = pf_fire_after(fire_now, s, g2_prev2 > 0u, step_index);
+#endif
 }
 
 /* Finishes the steps in flight (one work-group), by the same sums the
@@ -177,7 +199,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
  * its record. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_history(
     __global const float8* L1_last, const uint g1, __global float8* L2_scratch, __global const float8* L2_prev,
-    const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev) {
+    const uint g2_prev, __global float8* history, const uint slot_last, const uint slot_prev, __global float8* fire,
+    const uint fire_slot, const uint step_last) {
   const uint lid = get_local_id(0);
   const uint g2 = (g1 + PF_WG - 1u) / PF_WG;
   __local float8 part[3u * PF_WG];
@@ -195,5 +218,11 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void finalize_histor
   const float8 s = pf_group_sums(part, mid, lid, 6u);
   if (lid == 1u && g2 > 0u) history[slot_last] = s;
   if (lid == 2u && g2_prev > 0u) history[slot_prev] = s;
+#if PF_FIRE
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 1u || lid == 2u) part[lid] = s; /* the two records, for item 0 */
+  barrier(CLK_LOCAL_MEM_FENCE);
+  if (lid == 0u) pf_fire_finish(fire, fire_slot, step_last, part[2], g2_prev > 0u, part[1], g2 > 0u);
+#endif
 }
 

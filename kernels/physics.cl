@@ -208,6 +208,98 @@ PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change, PF_REAL)
   }
 PF_DEFINE_KICK_DRIFT(pf_kick_drift, PF_REAL)
 
+/* FIRE, the minimiser of Bitzek et al. (PRL 97, 170201, 2006), with the
+ * half-step back-up at a restart of Guenole et al. (Comput. Mater. Sci.
+ * 175, 109584, 2020), as an engine runs it (EngineParams::fire): every
+ * step, one particle by PF_DEFINE_FIRE_KICK_DRIFT's rule with the step dt
+ * and the mixing share alpha of the FIRE state; the state by
+ * pf_fire_next from each step's power P = sum F.v, which the engine sums
+ * with the step's other records and so knows a few steps late (see
+ * common.cl: the record of step t is complete in step t + 2, which sets
+ * the state of step t + 3). Mixing is per particle, v_i <- (1 - alpha)
+ * v_i + alpha |v_i| F_i / |F_i|: Bitzek's global |v| / |F| would need two
+ * more sums, known only as late as P. */
+typedef struct {
+  PF_REAL dt;        /* the step */
+  PF_REAL alpha;     /* the mixing share */
+  PF_REAL backtrack; /* at a restart, each centre moves back by this times its velocity (half the last step) */
+  PF_REAL positive;  /* steps in a row with P > 0 */
+  PF_REAL restarts;  /* restarts so far (for reports) */
+  uint restart_step; /* the step that restarts: v = 0 after the back-up */
+} pf_fire_state;
+
+/* FIRE's schedule: dt grows by `grow` up to dt_max after `delay` steps in
+ * a row with P > 0 (alpha then shrinks by alpha_shrink); at P <= 0 dt
+ * shrinks by `shrink` (not below dt_min), alpha returns to alpha_start and
+ * the particles restart. */
+typedef struct {
+  PF_REAL dt_max, dt_min, grow, shrink, alpha_start, alpha_shrink;
+  PF_REAL delay;
+} pf_fire_rule;
+
+/* The state after the record of step `record_step` (power P), for the
+ * steps from `effect_step` on (the first a restart can reach). A record
+ * taken at or before the last restart (whose velocities the restart
+ * dropped) is passed over. */
+PF_FN pf_fire_state pf_fire_next(pf_fire_state s, pf_fire_rule r, PF_REAL power, uint record_step,
+                                 uint effect_step) {
+  if (record_step <= s.restart_step) return s;
+  if (power > (PF_REAL)0) {
+    s.positive += (PF_REAL)1;
+    if (s.positive > r.delay) {
+      s.dt = fmin(s.dt * r.grow, r.dt_max);
+      s.alpha *= r.alpha_shrink;
+    }
+  } else {
+    s.positive = (PF_REAL)0;
+    s.backtrack = (PF_REAL)0.5 * s.dt;
+    s.dt = fmax(s.dt * r.shrink, r.dt_min);
+    s.alpha = r.alpha_start;
+    s.restart_step = effect_step;
+    s.restarts += (PF_REAL)1;
+  }
+  return s;
+}
+
+/* One particle's FIRE step (semi-implicit Euler, as FIRE 2.0): its power
+ * F.u from the velocity it comes with (into *power); where `restart`, the
+ * centre moved back by backtrack u and u = 0; then u += dt F / m, mixed
+ * towards F (u = (1 - alpha) u + alpha |u| F / |F|, nothing where F = 0),
+ * capped at speed vmax, and p += dt u. Returns the speed before the cap. */
+#define PF_DEFINE_FIRE_KICK_DRIFT(NAME, T, M)                                                             \
+  PF_FN T NAME(T* ux, T* uy, T* uz, T* px, T* py, T* pz, T fx, T fy, T fz, T inv_mass, T dt, T alpha,      \
+               M restart, T backtrack, T vmax, T* power) {                                                \
+    *power = fma(fz, *uz, fma(fy, *uy, fx * *ux));                                                        \
+    *px = select(*px, fma(-backtrack, *ux, *px), restart);                                                \
+    *py = select(*py, fma(-backtrack, *uy, *py), restart);                                                \
+    *pz = select(*pz, fma(-backtrack, *uz, *pz), restart);                                                \
+    *ux = select(*ux, (T)0, restart);                                                                     \
+    *uy = select(*uy, (T)0, restart);                                                                     \
+    *uz = select(*uz, (T)0, restart);                                                                     \
+    const T k = dt * inv_mass;                                                                            \
+    *ux = fma(k, fx, *ux);                                                                                \
+    *uy = fma(k, fy, *uy);                                                                                \
+    *uz = fma(k, fz, *uz);                                                                                \
+    const T f2 = fma(fz, fz, fma(fy, fy, fx * fx));                                                       \
+    const T v = sqrt(fma(*uz, *uz, fma(*uy, *uy, *ux * *ux)));                                            \
+    const M pulled = f2 > (T)0;                                                                           \
+    const T w = select((T)0, alpha * v / sqrt(select((T)1, f2, pulled)), pulled);                         \
+    const T keep = select((T)1, (T)1 - alpha, pulled);                                                    \
+    *ux = fma(w, fx, keep * *ux);                                                                         \
+    *uy = fma(w, fy, keep * *uy);                                                                         \
+    *uz = fma(w, fz, keep * *uz);                                                                         \
+    const T speed = sqrt(fma(*uz, *uz, fma(*uy, *uy, *ux * *ux)));                                        \
+    const T scale = select((T)1, vmax / speed, speed > vmax);                                             \
+    *ux *= scale;                                                                                         \
+    *uy *= scale;                                                                                         \
+    *uz *= scale;                                                                                         \
+    *px = fma(dt, *ux, *px);                                                                              \
+    *py = fma(dt, *uy, *py);                                                                              \
+    *pz = fma(dt, *uz, *pz);                                                                              \
+    return speed;                                                                                         \
+  }
+PF_DEFINE_FIRE_KICK_DRIFT(pf_fire_kick_drift, PF_REAL, int)
+
 /* Trilinear interpolation of one grid cell's corner values vIJK (I, J, K
  * the offsets along x, y, z) at fractions (tx, ty, tz), and in g[0..2] the
  * exact gradient of the interpolant. Shared by every way of reading the

@@ -25,6 +25,7 @@ namespace pfill {
 namespace physics {
 
 // What physics.cl needs from OpenCL C, in double precision.
+using uint = unsigned int;
 inline int min(int a, int b) { return a < b ? a : b; }
 template <class T>
 inline T select(T a, T b, int c) {

@@ -101,6 +101,27 @@ TEST_CASE("finish: an over-full ball forces deletions, which are counted, and th
   }
 }
 
+TEST_CASE("finish: FIRE reaches the bound on an over-full packing in fewer steps than the damped relaxation") {
+  // Spacing 1.5 r throughout the ball (as above): a packing of 0.9, every
+  // neighbour overlapping by half of r. Holes left alone: the relaxations
+  // and deletions alone.
+  const std::vector<Particle> ps = lattice(1.5 * kR, kBall - kR);
+  REQUIRE(ps.size() > 250);
+  FinishStats by_fire, by_damping;
+  FinishSettings s = settings(0.001, 0);
+  const ParticleSet fired = finish_packing(shared_device(), base_params(), ball_field(), ps, s, by_fire);
+  s.fire = false;
+  const ParticleSet damped = finish_packing(shared_device(), base_params(), ball_field(), ps, s, by_damping);
+  INFO("FIRE: " << by_fire.steps << " steps, " << fired.size() << " spheres; damped: " << by_damping.steps
+                << " steps, " << damped.size() << " spheres");
+  CHECK(by_fire.steps < by_damping.steps);
+  for (const ParticleSet* out : {&fired, &damped}) {
+    CHECK(worst_overlap(*out) <= 0.001);
+    for (const Vec3& p : out->positions) CHECK(length(p) <= kBall - kR * (1 - 1e-3));
+  }
+  CHECK(fired.size() + 5 >= damped.size());  // as many spheres kept, or nearly
+}
+
 TEST_CASE("finish: a loose packing is compressed by holes taken below 2r, to a dense one within the bound") {
   // Spacing 2.5 r: a packing of 0.17 in the ball, with room everywhere
   // between the lattice points for spheres that overlap their neighbours.

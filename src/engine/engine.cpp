@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <utility>
 #include <vector>
 
@@ -48,7 +49,9 @@ struct Engine::Impl {
   }
 };
 
-Engine::Engine(Device& device, const EngineParams& params) : impl_(std::make_unique<Impl>(device, params)) {}
+Engine::Engine(Device& device, const EngineParams& params) : impl_(std::make_unique<Impl>(device, params)) {
+  restart_minimiser();
+}
 Engine::~Engine() = default;
 
 const EngineParams& Engine::params() const { return impl_->state.params; }
@@ -143,6 +146,32 @@ size_t Engine::index_after_removal(size_t index, std::vector<size_t> removed, si
 
 void Engine::run_steps(size_t k) {
   for (size_t s = 0; s < k; ++s) impl_->form->step();
+}
+
+void Engine::restart_minimiser() {
+  EngineState& s = impl_->state;
+  if (!s.params.fire.on) return;
+  s.records->finish_pending(s.steps);  // the records in flight would write the state after this
+  cl_float8 v{};
+  v.s[0] = static_cast<float>(s.constants.dt);
+  v.s[1] = static_cast<float>(s.params.fire.alpha_start);
+  const cl_uint restart_step = static_cast<cl_uint>(s.steps);  // (common.cl pf_fire_save: as uint bits)
+  std::memcpy(&v.s[5], &restart_step, sizeof restart_step);
+  s.fire.write(s.steps % 2, {v});
+}
+
+Engine::MinimiserState Engine::minimiser_state() {
+  EngineState& s = impl_->state;
+  if (!s.params.fire.on) return {};
+  s.records->finish_pending(s.steps);
+  std::vector<cl_float8> v;
+  s.fire.read(2, v);
+  const cl_float8& now = v[s.steps % 2];
+  MinimiserState m;
+  m.dt = now.s[0];
+  m.alpha = now.s[1];
+  m.restarts = now.s[4];
+  return m;
 }
 
 std::vector<StepRecord> Engine::read_history() {

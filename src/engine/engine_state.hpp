@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "engine/cell_grid.hpp"
+#include "engine/device_array.hpp"
 #include "engine/device_field.hpp"
 #include "engine/neighbour_lists.hpp"
 #include "engine/particle_arrays.hpp"
@@ -37,6 +38,7 @@ struct EngineState {
   NeighbourLists lists;       // the lists, their request words, the births linked in
   CellGrid cells;             // the grid the lists are built from
   DeviceField wall;           // the distance field the wall kernels sample
+  DeviceArray<cl_float8> fire;  // the FIRE state (params.fire), one for each of two steps in turn (common.cl)
   std::unique_ptr<StepHistory> records;  // made with the form's finalize_history kernel
   std::vector<std::pair<std::string, cl::Event>> events;
 };

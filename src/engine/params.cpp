@@ -77,6 +77,15 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(std::isfinite(p.wall_offset), "wall_offset must be a finite number");
   require(p.work_group >= 1, "work_group must be >= 1");
   require(p.force_buffers <= 1024, "force_buffers must be <= 1024 (0: one per compute unit)");
+  if (p.fire.on) {
+    const FireParams& f = p.fire;
+    require(p.damping == 0, "damping must be 0 with fire.on (FIRE drops velocities itself)");
+    require(f.dt_min > 0 && f.dt_min <= 1 && f.dt_max >= 1, "fire needs 0 < dt_min <= 1 <= dt_max (units of dt)");
+    require(f.grow >= 1 && f.shrink > 0 && f.shrink < 1, "fire needs grow >= 1 and shrink in (0, 1)");
+    require(f.alpha_start >= 0 && f.alpha_start < 1 && f.alpha_shrink > 0 && f.alpha_shrink <= 1,
+            "fire needs alpha_start in [0, 1) and alpha_shrink in (0, 1]");
+    require(f.delay >= 0, "fire.delay must be >= 0");
+  }
 
   EngineConstants c;
   const double a = p.exponent_a, b = p.exponent_b;

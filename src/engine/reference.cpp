@@ -13,7 +13,25 @@
 
 namespace pfill {
 
-ReferenceEngine::ReferenceEngine(const EngineParams& params) : params_(params), constants_(derive_constants(params)) {}
+namespace {
+
+physics::pf_fire_rule fire_rule(const EngineParams& p, const EngineConstants& c) {
+  physics::pf_fire_rule r;
+  r.dt_max = p.fire.dt_max * c.dt;
+  r.dt_min = p.fire.dt_min * c.dt;
+  r.grow = p.fire.grow;
+  r.shrink = p.fire.shrink;
+  r.alpha_start = p.fire.alpha_start;
+  r.alpha_shrink = p.fire.alpha_shrink;
+  r.delay = p.fire.delay;
+  return r;
+}
+
+}  // namespace
+
+ReferenceEngine::ReferenceEngine(const EngineParams& params) : params_(params), constants_(derive_constants(params)) {
+  restart_minimiser();
+}
 
 void ReferenceEngine::set_field(const ScalarGrid& field) {
   field_ = field;
@@ -38,9 +56,36 @@ void ReferenceEngine::run_steps(size_t k) {
   for (size_t s = 0; s < k; ++s) history_.push_back(step());
 }
 
-std::vector<StepRecord> ReferenceEngine::read_history() { return std::exchange(history_, {}); }
+std::vector<StepRecord> ReferenceEngine::read_history() {
+  take_in_flight();
+  return std::exchange(history_, {});
+}
+
+void ReferenceEngine::take_in_flight() {
+  if (!params_.fire.on) return;
+  physics::pf_fire_state f{fire_.dt, fire_.alpha, fire_.backtrack, fire_.positive, fire_.restarts, fire_.restart_step};
+  for (const auto& [step, power] : in_flight_)
+    f = physics::pf_fire_next(f, fire_rule(params_, constants_), power, static_cast<uint32_t>(step),
+                              static_cast<uint32_t>(steps_));
+  in_flight_.clear();
+  fire_ = {f.dt, f.alpha, f.backtrack, f.positive, f.restarts, f.restart_step};
+}
+
+void ReferenceEngine::restart_minimiser() {
+  if (!params_.fire.on) return;
+  take_in_flight();
+  fire_ = {constants_.dt, params_.fire.alpha_start, 0, 0, 0, static_cast<uint32_t>(steps_)};
+}
+
+ParticleEngine::MinimiserState ReferenceEngine::minimiser_state() {
+  take_in_flight();
+  MinimiserState m;
+  if (params_.fire.on) m = {fire_.dt, fire_.alpha, fire_.restarts};
+  return m;
+}
 
 std::vector<size_t> ReferenceEngine::sort_by_cells() {
+  take_in_flight();  // as the engine, which finishes the steps in flight to sort
   std::vector<size_t> order(particles_.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   return order;
@@ -80,6 +125,8 @@ StepRecord ReferenceEngine::step() {
   StepRecord rec;
   rec.step = steps_++;
   rec.particles = static_cast<uint32_t>(particles_.size());
+  const bool fire = params_.fire.on;
+  const bool restart = fire && fire_.restart_step == static_cast<uint32_t>(rec.step);
   std::vector<Particle> next = particles_;
   for (size_t i = 0; i < particles_.size(); ++i) {
     const Particle& pi = particles_[i];
@@ -104,8 +151,15 @@ StepRecord ReferenceEngine::step() {
       }
     }
     Vec3 u = pi.velocity, x = pi.position;
-    physics::pf_kick_drift(&u.x, &u.y, &u.z, &x.x, &x.y, &x.z, force.x, force.y, force.z, inv_mi, c.dt,
-                           c.damping_factor, c.max_speed);
+    if (fire) {
+      double power = 0;  // (a restart's speed cap: the kernels' PF_STEP_CAP / dt)
+      physics::pf_fire_kick_drift(&u.x, &u.y, &u.z, &x.x, &x.y, &x.z, force.x, force.y, force.z, inv_mi, fire_.dt,
+                                  fire_.alpha, restart, fire_.backtrack, c.max_speed * c.dt / fire_.dt, &power);
+      rec.power += power;
+    } else {
+      physics::pf_kick_drift(&u.x, &u.y, &u.z, &x.x, &x.y, &x.z, force.x, force.y, force.z, inv_mi, c.dt,
+                             c.damping_factor, c.max_speed);
+    }
     if (has_field_) {
       double g[3];
       double phi = physics::sample(field_, x.x, x.y, x.z, g);
@@ -126,6 +180,18 @@ StepRecord ReferenceEngine::step() {
     rec.max_displacement = std::max(rec.max_displacement, length(x - pi.position));
   }
   particles_ = std::move(next);
+  if (fire) {
+    // As the engine's step t: it takes in the record of step t - 2 when that is in flight.
+    if (!in_flight_.empty() && in_flight_.front().first + 2 == rec.step) {
+      physics::pf_fire_state f{fire_.dt, fire_.alpha, fire_.backtrack, fire_.positive, fire_.restarts,
+                               fire_.restart_step};
+      f = physics::pf_fire_next(f, fire_rule(params_, c), in_flight_.front().second,
+                                static_cast<uint32_t>(in_flight_.front().first), static_cast<uint32_t>(rec.step + 1));
+      fire_ = {f.dt, f.alpha, f.backtrack, f.positive, f.restarts, f.restart_step};
+      in_flight_.erase(in_flight_.begin());
+    }
+    in_flight_.emplace_back(rec.step, rec.power);
+  }
   return rec;
 }
 

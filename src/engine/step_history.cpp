@@ -20,8 +20,15 @@ uint32_t as_uint(float f) {
 
 }  // namespace
 
-StepHistory::StepHistory(Device& device, size_t capacity, size_t group, Kernel finalize, Run run)
-    : device_(device), capacity_(capacity), group_(group), finalize_(std::move(finalize)), run_(std::move(run)) {
+StepHistory::StepHistory(Device& device, size_t capacity, size_t group, Kernel finalize, Run run, cl::Buffer fire,
+                         bool minimising)
+    : device_(device),
+      capacity_(capacity),
+      group_(group),
+      finalize_(std::move(finalize)),
+      run_(std::move(run)),
+      fire_(std::move(fire)),
+      minimising_(minimising) {
   history_ = device_.make_buffer(capacity_ * kRecord * sizeof(float), "history");
 }
 
@@ -38,7 +45,8 @@ void StepHistory::finish_pending(uint64_t steps) {
   const size_t h = capacity_;
   // the last step's level 1 and the level 2 of the one before; scratch: the next step's level-2 output
   finalize_.set_args(level1_prev(steps), cl_uint(level1_pending_), level2_out(steps), level2_prev(steps),
-                     cl_uint(level2_pending_), history_, cl_uint((steps + h - 1) % h), cl_uint((steps + h - 2) % h));
+                     cl_uint(level2_pending_), history_, cl_uint((steps + h - 1) % h), cl_uint((steps + h - 2) % h),
+                     fire_, cl_uint(steps % 2), cl_uint(steps - 1));
   run_(finalize_, group_);
   level1_pending_ = 0;
   level2_pending_ = 0;
@@ -72,7 +80,9 @@ void StepHistory::drain(uint64_t steps) {
     rec.kinetic_energy = r[0];
     rec.max_speed = std::sqrt(r[1]);  // the kernels keep squares (common.cl pf_record)
     rec.max_displacement = std::sqrt(r[2]);
-    rec.lists_rebuilt = r[3] > 0.5f;
+    // the fourth sum: the power under FIRE, else the rebuilt flag (common.cl pf_record)
+    rec.lists_rebuilt = !minimising_ && r[3] > 0.5f;
+    rec.power = minimising_ ? r[3] : 0;
     rec.colliding_pairs = as_uint(r[4]);
     rec.flagged = as_uint(r[5]);
     rec.cell_overflow = as_uint(r[6]);

@@ -22,8 +22,12 @@ class StepHistory {
   using Run = std::function<void(Kernel&, size_t)>;
 
   /// `capacity` records on the device; `group` is PF_WG (the chunk of the
-  /// level-2 sums); `finalize` the form's finalize_history kernel.
-  StepHistory(Device& device, size_t capacity, size_t group, Kernel finalize, Run run);
+  /// level-2 sums); `finalize` the form's finalize_history kernel. `fire`:
+  /// the FIRE state's two halves (EngineState::fire), which finalize_history
+  /// brings up to date with the records it finishes when `minimising`
+  /// (the records' fourth sum is then the power).
+  StepHistory(Device& device, size_t capacity, size_t group, Kernel finalize, Run run, cl::Buffer fire,
+              bool minimising);
 
   /// Partial buffers for steps of up to `level1_max` level-1 partials
   /// (finishes the steps in flight first: the buffers are replaced).
@@ -66,7 +70,8 @@ class StepHistory {
   size_t capacity_, group_;
   Kernel finalize_;
   Run run_;
-  cl::Buffer level1_[2], level2_[2], history_;
+  cl::Buffer level1_[2], level2_[2], history_, fire_;
+  bool minimising_;
   size_t level1_pending_ = 0;  // >0: level1[(steps - 1) % 2] holds step steps-1's partials, unreduced
   size_t level2_pending_ = 0;  // >0: level2[(steps - 1) % 2] holds step steps-2's partials, unreduced
   uint64_t read_ = 0;          // records read back: steps [0, read_)

@@ -44,7 +44,10 @@ EngineState::EngineState(Device& d, const EngineParams& p)
       particles(d),
       lists(d, ListLayout{constants.list_capacity, choices.newton, choices.inner_lists, choices.gpu_form}),
       cells(d, constants.cell_size, constants.cell_capacity, constants.cell_levels, constants.cell_capacity_up),
-      wall(d, params.field_image) {}
+      wall(d, params.field_image),
+      fire(d, "FIRE state") {
+  fire.reset(2, true);
+}
 
 void EngineState::run(Kernel& k, size_t items) {
   if (device.profiling()) {
@@ -102,6 +105,18 @@ std::map<std::string, std::string> shared_defines(const EngineState& s) {
       {"PF_FIX_MAX", flt(16384 * c.force_cap)},
       {"PF_WG", std::to_string(s.choices.work_group) + "u"},
       {"PF_WG_ROOT", std::to_string(root) + "u"}};
+  if (p.fire.on) {
+    const FireParams& f = p.fire;
+    d["PF_FIRE"] = "1";
+    d["PF_STEP_CAP"] = flt(c.max_speed * c.dt);  // a step's largest move, whatever FIRE's dt
+    d["PF_FIRE_DT_MAX"] = flt(f.dt_max * c.dt);
+    d["PF_FIRE_DT_MIN"] = flt(f.dt_min * c.dt);
+    d["PF_FIRE_GROW"] = flt(f.grow);
+    d["PF_FIRE_SHRINK"] = flt(f.shrink);
+    d["PF_FIRE_ALPHA_START"] = flt(f.alpha_start);
+    d["PF_FIRE_ALPHA_SHRINK"] = flt(f.alpha_shrink);
+    d["PF_FIRE_DELAY"] = flt(f.delay);
+  }
   if (p.field_image) d["PF_FIELD_IMAGE"] = "1";
   // (as a float: the sum a shifted copy of the field would hold)
   if (p.wall_offset != 0) d["PF_WALL_OFFSET"] = flt(static_cast<float>(p.wall_offset));
@@ -127,7 +142,8 @@ StepKernels::StepKernels(EngineState& state, const std::vector<std::string>& fil
   list_neighbours = program.kernel("list_neighbours", s.params.work_group);
   EngineState* st = &s;
   s.records = std::make_unique<StepHistory>(s.device, s.params.history_capacity, wg, finalize,
-                                            [st](Kernel& k, size_t items) { st->run(k, items); });
+                                            [st](Kernel& k, size_t items) { st->run(k, items); },
+                                            s.fire.buffer(), s.params.fire.on);
 }
 
 std::vector<Kernel*> StepKernels::kernels() {
@@ -157,6 +173,8 @@ void StepKernels::bind_shared(Kernel& k, bool force_rebuild) {
   k.bind("L1_out", r.level1_out(t)).bind("L1_prev", r.level1_prev(t)).bind("g1_prev", r.level1_pending());
   k.bind("L2_out", r.level2_out(t)).bind("L2_prev", r.level2_prev(t)).bind("g2_prev2", r.level2_pending());
   k.bind("history", r.ring()).bind("slot_prev2", r.slot_two_back(t));
+  k.bind("fire", s.fire).bind("fire_read", cl_uint(t % 2)).bind("fire_write", cl_uint((t + 1) % 2));
+  k.bind("step_index", cl_uint(t));
 }
 
 void StepKernels::step() {

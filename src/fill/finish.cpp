@@ -1,11 +1,12 @@
 // The finish (see finish.hpp). Overlaps are resolved by moving spheres: a
-// lightly damped, purely repulsive relaxation (inertia carries it through
-// the packing's soft modes faster than strong damping) whose rest distance
-// is set by the bound (finish_inflation), with the wall keeping every centre
-// inside. The engine's spheres are smaller than r by half the bound, so the
-// colliding pairs it counts each step are the pairs over the bound: a
-// relaxation ends when that count is 0 or stops falling, with no positions
-// read; one that runs out of steps while the count still falls runs on. Only
+// purely repulsive relaxation, by FIRE (EngineParams::fire: inertia while
+// the energy falls, every velocity dropped when it rises) or, on engines
+// without it, lightly damped dynamics, whose rest distance is set by the
+// bound (finish_inflation), with the wall keeping every centre inside. The
+// engine's spheres are smaller than r by half the bound, so the colliding
+// pairs it counts each step are the pairs over the bound: a relaxation ends
+// when that count is 0 or stops falling, with no positions read; one that
+// runs out of steps while the count still falls runs on. Only
 // when it stalls above 0 is the packing too full there: then the
 // most compressed spheres go, about half of the excess the overlaps imply
 // and one in each of the most pressed tenth of the jams, never two touching
@@ -68,8 +69,18 @@ class Finisher {
     p.restitution = 0;
     p.wall_restitution = 0;
     p.dt = 0;
-    p.dt = s.time_step * derive_constants(p).tau;
-    p.damping = -std::log(1 - s.damping) / p.dt;
+    const double tau = derive_constants(p).tau;
+    p.dt = s.time_step * tau;
+    if (s.fire) {
+      // FIRE minimises the potential itself: no dashpots, no damping
+      p.restitution = 1;
+      p.damping = 0;
+      p.dt = s.fire_time_step * tau;
+      p.fire.on = true;
+      p.fire.dt_max = s.fire_dt_max;
+    } else {
+      p.damping = -std::log(1 - s.damping) / p.dt;
+    }
     p.history_capacity = std::max<size_t>(p.history_capacity, static_cast<size_t>(s.chunk_steps) + 8);
     p.radius = engine_radius_;
     // The wall also keeps `wall_margin` r more: the field, interpolated,
@@ -207,6 +218,7 @@ class Finisher {
     // order, holes' newcomers at the end and the removals' swaps otherwise
     // scatter neighbours through memory, which costs most at large counts.
     engine_->sort_by_cells();
+    if (s_.fire) engine_->restart_minimiser();  // from rest, at the first step, after the changes of the last round
     bool stalled = false;
     uint64_t done = 0;
     uint32_t pairs = 0, fewest = UINT32_MAX;

@@ -27,8 +27,17 @@ struct FinishSettings {
   std::optional<RadiusDistribution> sizes;
   double max_overlap = 0.001;   ///< bound on every pair's overlap, fraction of r
   double inflation = std::nan("");  ///< contact distance while relaxing: 2r (1 + inflation); NaN: automatic (finish_inflation)
-  double time_step = 0.03;      ///< relaxation step, in tau of the inflated potential
-  double damping = 0.01;        ///< share of every velocity lost each relaxation step (little: inertia crosses the soft modes faster)
+  double time_step = 0.03;      ///< damped relaxation's step, in tau of the inflated potential
+  /// The relaxation's integrator: FIRE (EngineParams::fire; the OpenCL
+  /// engine and the reference), or, false, damped dynamics (`damping`; the
+  /// LAMMPS engine, which has no FIRE).
+  bool fire = true;
+  /// FIRE's first step, in tau, and its largest, in units of the first:
+  /// 0.08 tau at most (from a first step of 0.03 tau the stiff cores of
+  /// overlapping pairs restarted it every few steps; see docs/finish.md).
+  double fire_time_step = 0.01;
+  double fire_dt_max = 8;
+  double damping = 0.01;        ///< damped dynamics: share of every velocity lost each step (little: inertia crosses the soft modes faster)
   int chunk_steps = 100;        ///< relaxation steps between reads of the step history
   uint64_t relax_steps = 1500;  ///< most steps of one relaxation (it stops earlier when the spheres stall; one still improving at the end runs again, a round of its own)
   int patience = 5;             ///< a relaxation has stalled when the pairs over the bound fell by under `stall_fall` in this many reads
@@ -63,7 +72,7 @@ struct FinishStats {
   uint64_t next_id = 0;   ///< the id after the last one given to an inserted sphere
 };
 
-/// Relaxes `particles` on a damped, purely repulsive engine whose contact
+/// Relaxes `particles` on a purely repulsive engine (FIRE, or damped) whose contact
 /// distance is inflated by the bound (so a relaxed pair ends apart), with the
 /// wall of `field`; deletes the most compressed spheres only when the
 /// relaxation stalls with overlaps over the bound, inserts spheres into the

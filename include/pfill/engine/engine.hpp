@@ -111,6 +111,10 @@ class Engine final : public ParticleEngine {
   size_t size() const override;          ///< particle count
   uint64_t steps_done() const override;  ///< steps enqueued since construction
 
+  /// FIRE: the state written for the next step (after the steps in flight are finished).
+  void restart_minimiser() override;
+  MinimiserState minimiser_state() override;  ///< (blocking)
+
   /// Blocks until the device is idle.
   void finish();
 

@@ -26,6 +26,23 @@ enum class PairScaling { automatic, on, off };
 
 struct DeviceInfo;
 
+/// FIRE, the minimiser (Bitzek et al., PRL 97, 170201, 2006; kernels/physics.cl
+/// pf_fire_next): each step the particles move by semi-implicit Euler with
+/// the state's step, their velocities turned towards their forces by the
+/// share alpha; dt grows while the power P = sum F.v stays positive and
+/// every velocity is dropped when it is not. The OpenCL engine and the
+/// reference run it; the LAMMPS engine does not (it refuses it).
+struct FireParams {
+  bool on = false;            ///< FIRE instead of leapfrog with damping (then no damping: `damping` must be 0)
+  double dt_max = 4;          ///< largest step, in units of PhysicsParams::dt (the first step)
+  double dt_min = 0.02;       ///< smallest step, in the same units
+  double grow = 1.1;          ///< dt grows by this a step after `delay` steps in a row with P > 0
+  double shrink = 0.5;        ///< and shrinks by this at P <= 0
+  double alpha_start = 0.1;   ///< the mixing share at the start and after a restart
+  double alpha_shrink = 0.99; ///< alpha shrinks by this as dt grows
+  int delay = 5;              ///< steps with P > 0 before dt grows
+};
+
 /// The physics. Lengths are in mesh units; a particle of radius `radius`
 /// has mass 1 (mass scales with volume, (r / radius)^3).
 struct PhysicsParams {
@@ -63,6 +80,9 @@ struct PhysicsParams {
   double dt = 0;                   ///< time step; 0: 0.005 tau, tau = sigma sqrt(m / eps)
   double max_step_fraction = 0.05; ///< no particle moves more than this many sigma in one step
   double force_cap = 0;            ///< largest pair force; 0: the force that gives a unit mass the top speed in one step
+  /// FIRE instead of leapfrog (FireParams). dt is then its first step; the
+  /// speed cap keeps every step's move at max_step_fraction sigma.
+  FireParams fire;
 };
 
 /// The neighbour lists and grid (results do not depend on them, beyond

@@ -57,6 +57,17 @@ class ParticleEngine {
   virtual void clear_flags() = 0;
   virtual size_t size() const = 0;          ///< particle count
   virtual uint64_t steps_done() const = 0;  ///< steps run (or enqueued)
+
+  /// FIRE (params().fire.on): the minimiser starts afresh at the next
+  /// step (its first dt, alpha at its start, every velocity dropped).
+  /// Engines without FIRE ignore it.
+  virtual void restart_minimiser() {}
+  /// FIRE's state after the steps read so far (for reports; zeros without FIRE).
+  struct MinimiserState {
+    double dt = 0, alpha = 0;
+    double restarts = 0;  ///< since the last restart_minimiser
+  };
+  virtual MinimiserState minimiser_state() { return {}; }
 };
 
 }  // namespace pfill

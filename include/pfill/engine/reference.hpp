@@ -3,6 +3,8 @@
 /// step (brute-force O(n^2) pairs, same formulas from kernels/physics.cl,
 /// same order of operations). Tests compare the OpenCL engine against it.
 #pragma once
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "pfill/engine/engine.hpp"
@@ -39,6 +41,13 @@ class ReferenceEngine final : public ParticleEngine {
   size_t size() const override { return particles_.size(); }
   uint64_t steps_done() const override { return steps_; }
 
+  /// FIRE as the engine runs it: the state for the next step, and the
+  /// records' powers taken in as the engine's steps take them in (the
+  /// record of step t in step t + 2; those of steps still in flight when
+  /// the history is read, the particles sorted or FIRE restarted, then).
+  void restart_minimiser() override;
+  MinimiserState minimiser_state() override;
+
   const std::vector<Particle>& particles() const { return particles_; }
   const std::vector<bool>& flags() const { return flags_; }
   const EngineConstants& constants() const override { return constants_; }
@@ -57,6 +66,12 @@ class ReferenceEngine final : public ParticleEngine {
   bool has_field_ = false;
   uint64_t steps_ = 0;
   std::vector<StepRecord> history_;  // run_steps' records, until read_history
+  struct Fire {  // physics.cl pf_fire_state, for the next step
+    double dt = 0, alpha = 0, backtrack = 0, positive = 0, restarts = 0;
+    uint32_t restart_step = 0;
+  } fire_;
+  std::vector<std::pair<uint64_t, double>> in_flight_;  // (step, power) of records FIRE has not taken in
+  void take_in_flight();             // takes them all in, oldest first (the engine's finalize_history)
 };
 
 }  // namespace pfill

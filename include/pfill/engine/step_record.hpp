@@ -15,7 +15,8 @@ struct StepRecord {
   uint32_t flagged = 0;            ///< particles whose centre was outside the field (or its box) this step
   uint32_t cell_overflow = 0;      ///< particles that met a full cell or neighbour list (neighbours lost: should be 0)
   uint32_t particles = 0;          ///< particle count during the step
-  bool lists_rebuilt = false;      ///< the step rebuilt the neighbour lists (cost: cell fill + list build)
+  bool lists_rebuilt = false;      ///< the step rebuilt the neighbour lists (cost: cell fill + list build; not recorded under FIRE)
+  double power = 0;                ///< FIRE (EngineParams::fire): sum of F.v over particles at the step's start, the minimiser's test
 };
 
 }  // namespace pfill
