@@ -47,8 +47,8 @@ std::string setting_text(const std::string& name, const py::handle& value) {
     if (text.find('\0') != std::string::npos) throw Error(name + ": the text holds a NUL character");
     return text;
   }
-  if (py::isinstance<py::int_>(value) || PyNumber_Check(value.ptr()) && !py::isinstance<py::sequence>(value) &&
-                                             !py::isinstance<py::array>(value))
+  if (py::isinstance<py::int_>(value) ||
+      (PyNumber_Check(value.ptr()) && !py::isinstance<py::sequence>(value) && !py::isinstance<py::array>(value)))
     return py::str(py::isinstance<py::int_>(value) ? value : py::reinterpret_steal<py::object>(PyNumber_Float(value.ptr())));
   if (py::isinstance<py::sequence>(value) || py::isinstance<py::array>(value)) {
     std::string text;
