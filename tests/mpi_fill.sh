@@ -2,8 +2,9 @@
 # A small fill on the LAMMPS engine under mpirun -np NP (ctest: mpiNP.fill_lammps):
 # every sphere inside, overlaps within the 0.1% bound, the count near what the
 # OpenCL engine gives (a sphere at -n 300: about 300), one output file
-# written by rank 0; and a bad option refused in one line before LAMMPS
-# starts on any rank.
+# written by rank 0; at more than one rank, the same fill's output written
+# per rank and joined back; and a bad option refused in one line before
+# LAMMPS starts on any rank.
 # Usage: mpi_fill.sh PFILL MPIRUN NP
 set -euo pipefail
 pfill=$1 mpirun=$2 np=$3
@@ -33,6 +34,34 @@ count=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["metrics
 [ "$lines" -eq "$count" ] || { echo "out.csv has $lines rows, the report says $count"; exit 1; }
 # The summary once, from rank 0 only.
 [ "$(grep -c 'packing' "$tmp/stdout" || true)" -le 1 ] || { echo "more than one rank printed"; cat "$tmp/stdout"; exit 1; }
+
+# More than one rank: the output per rank (-o part.%r.csv, docs/lammps_engine.md
+# "Output per rank") from the same options: each rank writes a part, none of
+# them every sphere, and `pfill join` of the parts gives the same rows, at
+# full precision, as rank 0's out.csv (in id order); a part given twice is
+# refused in one line.
+if [ "$np" -gt 1 ]; then
+  run "$pfill" fill --builtin sphere -n 300 --seed 1 --engine lammps -q -o "$tmp/part.%r.csv" \
+    > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+  parts=()
+  for ((r = 0; r < np; ++r)); do
+    [ -s "$tmp/part.$r.csv" ] || { echo "rank $r wrote no part"; exit 1; }
+    rows=$(($(wc -l < "$tmp/part.$r.csv") - 1))
+    [ "$rows" -gt 0 ] && [ "$rows" -lt "$lines" ] || { echo "rank $r wrote $rows of $lines spheres"; exit 1; }
+    parts+=("$tmp/part.$r.csv")
+  done
+  "$pfill" join -o "$tmp/joined.csv" "${parts[@]}"
+  [ "$(head -1 "$tmp/joined.csv")" = "$(head -1 "$tmp/out.csv")" ] || { echo "the joined header differs"; exit 1; }
+  cmp -s <(tail -n +2 "$tmp/out.csv" | sort) <(tail -n +2 "$tmp/joined.csv" | sort) ||
+    { echo "the joined parts differ from rank 0's out.csv"; exit 1; }
+  tail -n +2 "$tmp/joined.csv" | awk -F, 'NR > 1 && $NF + 0 <= last { exit 1 } { last = $NF + 0 }' ||
+    { echo "the joined file is not in id order"; exit 1; }
+  if "$pfill" join -o "$tmp/twice.csv" "${parts[0]}" "${parts[0]}" 2> "$tmp/err"; then
+    echo "a part given twice was joined"; exit 1
+  fi
+  [ "$(wc -l < "$tmp/err")" -eq 1 ] && grep -q "is in both" "$tmp/err" || { echo "join: $(cat "$tmp/err")"; exit 1; }
+  echo "the $np parts joined give rank 0's file"
+fi
 
 # A bad option: one line, exit 1, no LAMMPS started.
 if run "$pfill" fill --builtin sphere -n 300 --engine lammps --time-step 5 -o "$tmp/bad.csv" > /dev/null 2> "$tmp/err"; then

@@ -7,6 +7,7 @@
 #pragma once
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include "pfill/engine/particle_engine.hpp"
 
@@ -34,6 +35,14 @@ void lammps_mpi_abort(int code);
 /// rank must make the same calls with the same arguments (SPMD): births,
 /// removals and reads are collective.
 std::unique_ptr<ParticleEngine> make_lammps_engine(const EngineParams& params);
+
+/// Which of `positions` this rank writes when every rank writes its own
+/// part of a fill's output (`-o out.%r.csv`): those whose centre lies in
+/// this rank's LAMMPS sub-domain as the last engine left it (half-open
+/// boxes; a centre in none goes to the nearest box), so every particle is
+/// in exactly one part. Collective (every rank passes the same positions).
+/// One process, no engine run yet, or no LAMMPS: all of them.
+std::vector<size_t> lammps_rank_share(const std::vector<Vec3>& positions);
 
 /// FillOptions::engine for the LAMMPS engine; throws pfill::Error ("this
 /// pfill was built without LAMMPS; ...") when it is not built in.

@@ -35,4 +35,7 @@ void add_contacts_command(CLI::App& app);
 /// `pfill surface MESH (-r R | -n N) -o shell.ply`
 void add_surface_command(CLI::App& app);
 
+/// `pfill join -o OUT PART...`: the parts a fill wrote per MPI rank, joined by id
+void add_join_command(CLI::App& app);
+
 }  // namespace pfill::cli

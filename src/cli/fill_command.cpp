@@ -163,6 +163,22 @@ void parse_settings(FillArgs& a, const CLI::App& cmd) {
   }
 }
 
+/// `-o out.%r.csv`: this rank's part of the particles (those in its LAMMPS
+/// sub-domain, lammps_rank_share), written to the path with %r replaced by
+/// the rank; `pfill join` puts the parts back together.
+void write_rank_part(const ParticleSet& all, std::string path, int rank, const ParticleWriteOptions& wo) {
+  ParticleSet part;
+  for (size_t i : lammps_rank_share(all.positions)) {
+    part.positions.push_back(all.positions[i]);
+    part.radii.push_back(all.radii[i]);
+    if (all.has_colours()) part.colours.push_back(all.colours[i]);
+    if (all.has_velocities()) part.velocities.push_back(all.velocities[i]);
+    part.ids.push_back(all.id(i));
+  }
+  for (size_t at; (at = path.find("%r")) != std::string::npos;) path.replace(at, 2, std::to_string(rank));
+  write_particles(part, path, wo);
+}
+
 void run_fill(FillArgs& a, const CLI::App& cmd) {
   const bool from_file = !a.mesh.empty();
   if (a.output.empty())
@@ -194,14 +210,21 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   wo.box = mesh.bounds();  // LAMMPS .data: the box around the mesh
   std::unique_ptr<ShellRun> shell;  // --shell: the fill in the mesh moved in by the shell's radius
   if (a.shell.shell) shell = std::make_unique<ShellRun>(a.shell, mesh, a.options);
+  // -o with %r: every rank writes its own part of the output (docs/lammps_engine.md)
+  const bool parts = a.output.find("%r") != std::string::npos;
+  if (parts && (shell || a.contacts.wanted()))
+    usage_error("-o with %r (a file per MPI rank) takes neither --shell nor contacts (--contacts, --pairs): "
+                "give one output file");
   // --engine lammps: every MPI rank runs the fill (SPMD); rank 0 alone prints and writes.
   bool writer = true;
+  int rank = 0;
   if (a.engine == "lammps") {
     // (the LAMMPS engine runs every pair at one scale: equal spheres only, for now)
     if (a.options.radii) usage_error("--engine lammps takes equal spheres only: leave out --radii");
     a.options.engine = lammps_engine_factory();  // one line when this pfill has no LAMMPS
     a.options.finish_on_engine = true;
-    writer = lammps_mpi_start().rank == 0;
+    rank = lammps_mpi_start().rank;
+    writer = rank == 0;
     if (!writer) a.quiet = true, a.verbose = false, a.frames.clear();
   }
 
@@ -237,6 +260,7 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
+  if (parts) write_rank_part(r.particles, a.output, rank, wo);
   if (!writer) return;
   if (shell) {
     shell->join(r);  // r.particles: the inner spheres, then the shell's
@@ -251,7 +275,7 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
     contacts = find_and_write_contacts(a.contacts, r.particles, &boundary);
     wo.contacts = contacts.network.get();
   }
-  write_particles(r.particles, a.output, wo);
+  if (!parts) write_particles(r.particles, a.output, wo);
   wo.contacts = nullptr;
   if (frames) frames->write(r.particles);
   if (!a.preview.empty()) {
@@ -313,7 +337,8 @@ CLI::App* add_fill_command(CLI::App& app, bool show_all) {
       ->group(details);
   cmd->add_option("-o,--output", a->output,
                   "Output file; format from the extension: .ply .glb .csv .vtp, .data (LAMMPS read_data, "
-                  "atom_style sphere), .xyzr (Yade ymport.text) (default NAME_particles.ply here)");
+                  "atom_style sphere), .xyzr (Yade ymport.text) (default NAME_particles.ply here); with --engine lammps, "
+                  "%r in the name writes a file per MPI rank (pfill join)");
   // Every FillOptions setting from the table, by its one name; the
   // tuning ones only in `pfill fill --help-all` (still accepted always).
   for (const FillSetting& setting : fill_settings()) {

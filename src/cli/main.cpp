@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   pfill::cli::add_devices_command(app);
   pfill::cli::add_contacts_command(app);
   pfill::cli::add_surface_command(app);
+  pfill::cli::add_join_command(app);
 
   if (argc == 1) args.push_back("fill");  // the main job on a built-in shape
   // CLI11 answers a mistyped command with "A subcommand is required": name it.

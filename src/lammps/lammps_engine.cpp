@@ -358,6 +358,7 @@ class LammpsEngine final : public ParticleEngine {
       pending_ -= k;
       dirty_ = false;
     }
+    lammps_engine::last_subdomain() = lmp_->subdomain();
   }
 
   bool inside_box(const Vec3& p) const {

@@ -29,6 +29,20 @@ void ensure_mpi() {
   std::atexit(finalize_mpi);
 }
 
+SubDomain& last_subdomain() {
+  static SubDomain last;
+  return last;
+}
+
+SubDomain LammpsSession::subdomain() const {
+  SubDomain d;
+  const double* lo = static_cast<const double*>(lammps_extract_global(lmp_, "sublo"));
+  const double* hi = static_cast<const double*>(lammps_extract_global(lmp_, "subhi"));
+  for (int a = 0; a < 3; ++a) d.lo[a] = lo[a], d.hi[a] = hi[a];
+  d.set = true;
+  return d;
+}
+
 std::string num(double v) {
   char b[64];
   std::snprintf(b, sizeof b, "%.17g", v);

@@ -22,6 +22,16 @@ namespace lammps_engine {
 /// MPI_Init_thread unless MPI runs already (then MPI_Finalize at exit).
 void ensure_mpi();
 
+/// A rank's box in LAMMPS' domain decomposition (`sublo`, `subhi`).
+struct SubDomain {
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+  bool set = false;  ///< false until an engine ran
+};
+
+/// This rank's sub-domain as the last engine's last `run` left it, in this
+/// process: the output's parts per rank follow it (lammps_rank_share).
+SubDomain& last_subdomain();
+
 /// v with all 17 digits, for a LAMMPS command.
 std::string num(double v);
 
@@ -44,6 +54,8 @@ class LammpsSession {
 
   /// The number of atoms this rank owns.
   int nlocal() const { return *static_cast<int*>(lammps_extract_global(lmp_, "nlocal")); }
+  /// This rank's box in the domain decomposition now.
+  SubDomain subdomain() const;
   /// The atoms on all ranks, as LAMMPS counts them.
   double natoms() const { return lammps_get_natoms(lmp_); }
   /// This rank's per-atom array `name` ("id", "x", "v", "radius", ...), owned atoms first.
