@@ -107,6 +107,22 @@ TEST_CASE("births in waves fill a sphere: inside, overlaps within the bound, abo
   CHECK(r.stop_signal == "blocked");
 }
 
+TEST_CASE("room sites: the sparse start in fewer steps of pass 1, as many spheres, the same bounds") {
+  FillOptions plain = wave_fill(1500);
+  plain.room_spacing = 0;  // the sites alone
+  const Mesh ball = make_icosphere(1.0, 4);
+  const FillResult a = fill(ball, plain);
+  const FillResult b = fill(ball, wave_fill(1500));  // room sites (the default)
+  INFO("pass 1 " << a.passes[0].steps << " and " << b.passes[0].steps << " steps; " << a.metrics.count << " and "
+                 << b.metrics.count << " spheres");
+  CHECK(b.passes[0].steps < 0.9 * static_cast<double>(a.passes[0].steps));
+  CHECK(static_cast<double>(b.metrics.count) >= 0.98 * static_cast<double>(a.metrics.count));
+  for (const FillResult* r : {&a, &b}) {
+    CHECK(r->metrics.contained_share == 1.0);
+    CHECK(r->metrics.max_overlap <= plain.max_overlap + 1e-9);
+  }
+}
+
 TEST_CASE("births in waves fill a torus and a cube, and the same seed gives the same particles") {
   const Mesh torus = make_torus(1.0, 0.45, 64, 32);
   const FillResult a = fill(torus, wave_fill(600, 4));

@@ -197,6 +197,7 @@ TEST_CASE("hostile numbers in the settings are refused by name before any work")
       {"site_depth", [](FillOptions& o, double v) { o.site_depth = v; }},
       {"site_spacing", [](FillOptions& o, double v) { o.site_spacing = v; }},
       {"site_min_depth", [](FillOptions& o, double v) { o.site_min_depth = v; }},
+      {"room_spacing", [](FillOptions& o, double v) { o.room_spacing = v; }},
       {"birth", [](FillOptions& o, double v) { o.birth = Vec3{v, 0, 0}; }},
       {"birth_speed", [](FillOptions& o, double v) { o.birth_speed[1] = v; }},
       {"birth_clearance", [](FillOptions& o, double v) { o.birth_clearance = v; }},

@@ -124,12 +124,13 @@ TEST_CASE("pass 1 with waves: the steps left count down to the waves' usual tota
   const double early = at(6000, n);
   TimeLeft later(schedule(true, expected, 0.01));
   later.pass1_started(0);
-  later.estimate(FillPhase::Pass1, per_step * 11000, n - 1, 11000, 0);
-  const double late = later.estimate(FillPhase::Pass1, per_step * 13000, n, 13000, 0);
+  const auto last = static_cast<uint64_t>(TimeLeft::kWavePass1Steps) - 1000;  // still within the waves' usual steps
+  later.estimate(FillPhase::Pass1, per_step * static_cast<double>(last - 2000), n - 1, last - 2000, 0);
+  const double late = later.estimate(FillPhase::Pass1, per_step * static_cast<double>(last), n, last, 0);
   const double after = (2000 + TimeLeft::kFinishStepCost * TimeLeft::kFinishSteps) * TimeLeft::kSettleStepCost * per_step;
   // The count is full either way, so a step costs the same.
   CHECK(early - after == doctest::Approx((TimeLeft::kWavePass1Steps - 6000) * per_step).epsilon(0.01));
-  CHECK(early - late == doctest::Approx(7000 * per_step).epsilon(0.01));
+  CHECK(early - late == doctest::Approx((static_cast<double>(last) - 6000) * per_step).epsilon(0.01));
   // Past the waves' usual steps the births' fade decides: 2 births in
   // 2,000 steps, far under the stop share: a patience window or less.
   TimeLeft past(schedule(true, expected, 0.01));

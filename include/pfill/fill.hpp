@@ -92,6 +92,10 @@ struct FillOptions {
   double site_depth = 0.75;     ///< sites >= 1: sites after the first lie at least this share of the deepest depth inside
   double site_spacing = 5;      ///< waves: sites at least this many rest distances (2r) apart
   double site_min_depth = 2;    ///< waves: sites at least this many radii inside
+  /// Waves: until a quarter of the expected count is in, births also at room sites
+  /// this many rest distances apart, each where its newborn overlaps no
+  /// sphere (the sparse start in a few hundred steps, not thousands); 0: none.
+  double room_spacing = 1.5;
   int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 48 (waves)
   std::optional<Vec3> birth;    ///< overrides the first site (must lie r inside)
   std::array<double, 2> birth_speed{0.3, 0.6};  ///< newborn speed range, as fractions of the top speed

@@ -42,6 +42,9 @@ namespace {
 // attraction, -n 4000: 0.5818 at the 0.1% bound and 0.6086 at 5% (1.9 r:
 // 0.466 / 0.526); 1.5 r deleted a third of what it inserted.
 constexpr double kCompressClearance = 1.7;
+// Room sites (FillOptions::room_spacing) lie at least this many radii
+// inside: a newborn there starts clear of the wall as of every sphere.
+constexpr double kRoomSiteDepth = 1.2;
 
 // PFILL_PROFILE=1 (any value but empty or 0): the fill's queue profiles
 // every command, and each pass reports its kernel and transfer time.
@@ -59,7 +62,7 @@ class FillRun {
   FillResult run() {
     prepare();
     note_device_times();
-    FillPasses passes(*engine_, o_, plan_, sites_, reporter_, result_);
+    FillPasses passes(*engine_, o_, plan_, sites_, room_sites_, reporter_, result_);
     passes.pass1();
     note_device_times();
     passes.pass2();
@@ -126,6 +129,9 @@ class FillRun {
                                    short_number(plan_.radius) + " and stay empty");
     }
     result_.sites = sites_;
+    // (Unequal spheres: the waves' sites alone.)
+    if (plan_.waves && o_.room_spacing > 0 && !plan_.sizes)
+      room_sites_ = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
 
     if (!o_.engine) device_ = std::make_unique<Device>(o_.device, profile_requested());
     result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
@@ -216,6 +222,7 @@ class FillRun {
   std::unique_ptr<Boundary> boundary_;
   ScalarGrid field_;
   std::vector<BirthSite> sites_;
+  std::vector<BirthSite> room_sites_;  ///< waves: the first births' extra sites (FillPasses)
   std::unique_ptr<Device> device_;
   EngineParams params_;
   std::unique_ptr<ParticleEngine> engine_;

@@ -38,6 +38,7 @@ void check_fill_options(const FillOptions& o) {
   need(in(o.site_depth, 0, 1), "site_depth must be in [0, 1] (a share of the deepest point's depth)");
   need(in(o.site_spacing, 0.5, 1e3), "site_spacing must be in [0.5, 1000] rest distances");
   need(in(o.site_min_depth, 1, 1e3), "site_min_depth must be in [1, 1000] radii");
+  need(o.room_spacing == 0 || in(o.room_spacing, 0.5, 1e3), "room_spacing must be 0 (none) or in [0.5, 1000] rest distances");
   need(o.birth_every >= 0 && o.birth_every <= 1000, "birth_every must be 1..1000 (or 0: automatic)");
   need(!o.birth || (std::isfinite(o.birth->x) && std::isfinite(o.birth->y) && std::isfinite(o.birth->z)),
        "birth must be three finite numbers X,Y,Z");

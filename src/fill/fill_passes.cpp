@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cstdio>
 
+#include "fill/centre_grid.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
@@ -13,6 +14,12 @@
 
 namespace pfill {
 namespace {
+
+// Room births end at this share of the expected count: past it the
+// packing's structure forms, and births at the sites alone set it as
+// before. A room site takes a newborn only where no centre lies within this
+// many rest distances, so that newborn overlaps nobody.
+constexpr double kRoomUntil = 0.25, kRoomClearance = 1.0;
 
 std::vector<size_t> take_flagged(ParticleEngine& e) {
   std::vector<size_t> out = e.flagged_particles();
@@ -23,11 +30,13 @@ std::vector<size_t> take_flagged(ParticleEngine& e) {
 }  // namespace
 
 FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan,
-                       std::vector<BirthSite> sites, FillReporter& reporter, FillResult& result)
+                       std::vector<BirthSite> sites, std::vector<BirthSite> room_sites, FillReporter& reporter,
+                       FillResult& result)
     : engine_(engine),
       o_(o),
       plan_(plan),
       sites_(std::move(sites)),
+      room_sites_(std::move(room_sites)),
       reporter_(reporter),
       result_(result),
       rng_(o.seed),
@@ -242,9 +251,28 @@ int FillPasses::birth_wave() {
       if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
       if (room.has_room(site.position)) newborns.push_back(newborn_at(site.position, plan_.radius));
     }
+    if (!capped) room_births(newborns);
   }
   if (!newborns.empty()) newest_ = engine_.add_particles(newborns) + newborns.size() - 1;
   return static_cast<int>(newborns.size());
+}
+
+/// While the fill is sparse (below kRoomUntil of the expected count): a
+/// newborn at each room site where it overlaps no sphere of the snapshot
+/// and none of this wave's newborns.
+void FillPasses::room_births(std::vector<Particle>& newborns) {
+  if (room_sites_.empty() || static_cast<double>(engine_.size()) >= kRoomUntil * plan_.expected) return;
+  const double clearance = kRoomClearance * plan_.rest_distance(o_);
+  const RoomGrid room(snapshot_, clearance);
+  CentreGrid wave(clearance);
+  for (size_t k = 0; k < newborns.size(); ++k) wave.insert(newborns[k].position, static_cast<uint32_t>(k));
+  for (const BirthSite& site : room_sites_) {
+    if (!room.has_room(site.position)) continue;
+    if (wave.any_near(site.position, [&](uint32_t k) { return length(newborns[k].position - site.position) < clearance; }))
+      continue;
+    wave.insert(site.position, static_cast<uint32_t>(newborns.size()));
+    newborns.push_back(newborn_at(site.position, plan_.radius));
+  }
 }
 
 /// Unequal spheres: the radius of a newborn where `has_room(r)` says

@@ -2,6 +2,9 @@
 //   pass 1:  while not overfull: births at the sites; update
 //   pass 2:  MaxParts = count - 1; top up to MaxParts
 //   settle:  update until at rest
+// With waves, the first births also go to room sites (FillOptions::
+// room_spacing) wherever a newborn overlaps no sphere, until a quarter of
+// the expected count is in: the sparse start then takes a few hundred steps.
 // The host runs a batch of steps (`sync_every`, or a wave's `birth_every`),
 // then reads the step history and, while births may follow, a snapshot of
 // the positions that the birth-room test uses; particles the wall flagged
@@ -24,8 +27,9 @@ class FillPasses {
  public:
   /// Runs on `engine` (empty, the field set); writes what the passes
   /// decide (stop signal, MaxParts, losses, pass times) into `result`.
+  /// `room_sites`: waves' extra sites for the first births (may be empty).
   FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan, std::vector<BirthSite> sites,
-             FillReporter& reporter, FillResult& result);
+             std::vector<BirthSite> room_sites, FillReporter& reporter, FillResult& result);
 
   void pass1();
   void pass2();
@@ -39,6 +43,7 @@ class FillPasses {
   bool may_birth() const;
   int birth_at_sites();
   int birth_wave();
+  void room_births(std::vector<Particle>& newborns);
   Particle newborn_at(const Vec3& position, double radius);
   bool newborns_clear(const Vec3& site, double radius, double clearance) const;
   template <class HasRoom>
@@ -53,6 +58,7 @@ class FillPasses {
   const FillOptions& o_;
   const FillPlan& plan_;
   std::vector<BirthSite> sites_;
+  std::vector<BirthSite> room_sites_;  ///< waves: extra sites for the first births, where nothing overlaps
   FillReporter& reporter_;
   FillResult& result_;
   std::mt19937_64 rng_;

@@ -46,9 +46,9 @@ class TimeLeft {
   /// go to the full count, among `particles` (see time_left.cpp).
   double pass1_steps_left(double births, double gap, double particles) const;
 
-  /// Steps of pass 1 with waves (stop share 3%): spot 12,624-14,160 at
-  /// 4,000, 14,928 at 16,000, 13,536 at 100,000; the bunny 15,552-15,648 at 4,000.
-  static constexpr double kWavePass1Steps = 14000;
+  /// Steps of pass 1 with waves (stop share 3%, room sites): spot
+  /// 11,520-12,384 at 4,000, 11,472 at 16,000; the bunny 11,952-12,096 at 4,000.
+  static constexpr double kWavePass1Steps = 11500;
   /// A settle step costs about this many steps of pass 1 at the same count
   /// (no births, no read-backs of positions; spot at 100,000 and 1e6).
   static constexpr double kSettleStepCost = 0.75;
