@@ -156,10 +156,10 @@ FillSetting with_short(FillSetting s, const char* short_flag) {
 // The setting's name is its field's: one name from C++ through Python to the flag.
 #define FIELD(f) #f, &FillOptions::f
 
-std::vector<FillSetting> make_table() {
+/// What a user chooses: `pfill fill --help`.
+std::vector<FillSetting> user_settings() {
   using T = SettingTier;
-  std::vector<FillSetting> t = {
-      // ---- the user's ----
+  return {
       with_short(whole(FIELD(count), T::User, 1,
                        "About this many particles (picks the radius, allowing for rest_distance); default 4000"),
                  "-n"),
@@ -189,7 +189,13 @@ std::vector<FillSetting> make_table() {
                      "surface when the mesh has colours, else none)"),
       text_setting(FIELD(device), T::User, "INDEX|NAME",
                    "OpenCL device: index or name (see `pfill devices`; or PFILL_DEVICE)"),
-      // ---- tuning: births ----
+  };
+}
+
+/// Tuning of the births (pass 1), in --help-all.
+std::vector<FillSetting> birth_settings() {
+  using T = SettingTier;
+  return {
       whole(FIELD(sites), T::Tuning, -1,
             "Birth sites: -1 automatic (waves from about 2,000 particles on, else 2 sites); 0 births in waves "
             "over sites spread inside; N the deepest point, then far deep points (the report's schedule)"),
@@ -215,6 +221,13 @@ std::vector<FillSetting> make_table() {
       whole(FIELD(max_steps), T::Tuning, 0,
             "Step budget of pass 1 (0: automatic, 100 a particle + 20,000); when it runs out, pass 1 ends with "
             "what is in"),
+  };
+}
+
+/// Tuning of the dynamics, the finish and the machinery, in --help-all.
+std::vector<FillSetting> other_tuning_settings() {
+  using T = SettingTier;
+  return {
       // ---- tuning: dynamics ----
       real(FIELD(damping), T::Tuning, "Velocity damping rate during passes 1 and 2"),
       real(FIELD(time_step), T::Tuning, "Time step in units of the potential's time scale tau"),
@@ -235,6 +248,11 @@ std::vector<FillSetting> make_table() {
       whole(FIELD(sort_every), T::Tuning, 0,
             "Steps between renumberings of the particles along the cells (0: never)"),
   };
+}
+
+std::vector<FillSetting> make_table() {
+  std::vector<FillSetting> t = user_settings();
+  for (auto part : {birth_settings(), other_tuning_settings()}) t.insert(t.end(), part.begin(), part.end());
   return t;
 }
 

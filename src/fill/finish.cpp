@@ -93,16 +93,7 @@ class Finisher {
 
   ParticleSet run(std::vector<Particle> ps) {
     if (s_.sizes) sizes_.emplace(*s_.sizes);
-    for (Particle& p : ps) {
-      p.velocity = {};
-      p.radius = sizes_ ? p.radius - shrink_ : engine_radius_;
-      // One mass for all: the relaxation is a minimiser, and unequal masses
-      // left the large spheres slow to give way (spot -n 4000, radii 1:2:
-      // 0.593 with masses by volume, 0.605 with one mass).
-      p.mass = 1;
-    }
-    engine_->add_particles(ps);
-    std::vector<Particle>().swap(ps);  // on the device now
+    upload(std::move(ps));
     int holes_done = 0;
     bool compressing = s_.compress_clearance > 0;
     size_t last_inserted = 0, deleted_since_insert = 0;
@@ -144,30 +135,59 @@ class Finisher {
         continue;
       }
       if (!compressing) ++holes_done;
-      std::vector<Particle> newcomers;
-      if (sizes_) sizes_->recount(now.radii);
-      for (size_t k = 0; k < holes.size(); ++k) {
-        // Unequal spheres: as large as the hole takes at this clearance's
-        // overlap (the same share of the radius as for the smallest), of
-        // a class still short of its share.
-        const double r =
-            sizes_ ? hole_radius(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius))
-                   : s_.radius;
-        if (r <= 0) continue;
-        Particle p;
-        p.position = holes[k];
-        p.radius = r - shrink_;
-        p.mass = 1;
-        p.id = next_id_++;
-        newcomers.push_back(p);
-      }
-      engine_->add_particles(newcomers);
-      stats_.inserted += newcomers.size();
-      last_inserted = newcomers.size();
+      last_inserted = insert_into_holes(now, holes, gaps, clearance);
       deleted_since_insert = 0;
     }
-    // Holes a sphere fits in without overlap (a deletion after the last
-    // insertion may leave one) take one as they are: nothing to relax.
+    add_fits(now);
+    stats_.next_id = next_id_;
+    return now;
+  }
+
+  void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
+
+ private:
+  /// The spheres onto the engine, at rest, at the engine's radius.
+  void upload(std::vector<Particle> ps) {
+    for (Particle& p : ps) {
+      p.velocity = {};
+      p.radius = sizes_ ? p.radius - shrink_ : engine_radius_;
+      // One mass for all: the relaxation is a minimiser, and unequal masses
+      // left the large spheres slow to give way.
+      p.mass = 1;
+    }
+    engine_->add_particles(ps);
+  }
+
+  /// A sphere into each of `holes` (the nearest centre `gaps` away), on
+  /// the engine, for the next relaxation to make room for. Returns how many.
+  size_t insert_into_holes(const ParticleSet& now, const std::vector<Vec3>& holes, const std::vector<double>& gaps,
+                           double clearance) {
+    std::vector<Particle> newcomers;
+    if (sizes_) sizes_->recount(now.radii);
+    for (size_t k = 0; k < holes.size(); ++k) {
+      // Unequal spheres: as large as the hole takes at this clearance's
+      // overlap (the same share of the radius as for the smallest), of
+      // a class still short of its share.
+      const double r =
+          sizes_ ? hole_radius(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius))
+                 : s_.radius;
+      if (r <= 0) continue;
+      Particle p;
+      p.position = holes[k];
+      p.radius = r - shrink_;
+      p.mass = 1;
+      p.id = next_id_++;
+      newcomers.push_back(p);
+    }
+    engine_->add_particles(newcomers);
+    stats_.inserted += newcomers.size();
+    return newcomers.size();
+  }
+
+  /// After the last relaxation: holes a sphere fits in without overlap (a
+  /// deletion after the last insertion may leave one) take one as they
+  /// are, into `now`: nothing to relax.
+  void add_fits(ParticleSet& now) {
     now = current();
     std::vector<double> gaps;
     const std::vector<Vec3> fits =
@@ -193,13 +213,8 @@ class Finisher {
       now.velocities.push_back({});
       ++stats_.inserted;
     }
-    stats_.next_id = next_id_;
-    return now;
   }
 
-  void set_progress(const std::function<void(size_t, uint32_t)>& f) { progress_ = f; }
-
- private:
   /// The spheres now, at their true radii.
   ParticleSet current() const { return to_set(engine_->read_particles(), s_.radius, shrink_, sizes_.has_value()); }
 
