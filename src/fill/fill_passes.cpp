@@ -42,7 +42,10 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       rng_(o.seed),
       top_speed_(engine.constants().max_speed),
       newest_(Engine::kGone) {
-  if (plan.sizes) sizes_.emplace(*plan.sizes);
+  if (plan.sizes) {
+    sizes_.emplace(*plan.sizes);
+    sizes_->front_load(plan.expected, static_cast<double>(sites_.size()));
+  }
 }
 
 // ---- pass 1: births until the object is overfull ----

@@ -16,6 +16,17 @@ constexpr int kBins = 16;
 SizeDeficit::SizeDeficit(const RadiusDistribution& sizes)
     : sizes_(sizes), classes_(sizes.size_classes(kBins)), count_(classes_.size(), 0) {}
 
+void SizeDeficit::front_load(double expected, double first_wave) {
+  first_quota_.assign(classes_.size(), 0);
+  size_t commonest = 0;
+  for (size_t k = 0; k < classes_.size(); ++k)
+    if (classes_[k].number_share > classes_[commonest].number_share) commonest = k;
+  for (size_t k = commonest + 1; k < classes_.size(); ++k) {
+    const double quota = classes_[k].number_share * expected;
+    if (quota <= first_wave) first_quota_[k] = static_cast<size_t>(std::ceil(quota));
+  }
+}
+
 void SizeDeficit::recount(const std::vector<double>& radii) {
   std::fill(count_.begin(), count_.end(), 0);
   for (double r : radii) ++count_[class_of(r)];
@@ -39,7 +50,10 @@ std::vector<size_t> SizeDeficit::candidates(double surplus_share) const {
     return a.first > b.first || (a.first == b.first && a.second > b.second);
   });
   std::vector<size_t> out;
-  for (const auto& d : by_deficit) out.push_back(d.second);
+  for (size_t k = first_quota_.size(); k-- > 0;)
+    if (count_[k] < first_quota_[k]) out.push_back(k);
+  for (const auto& d : by_deficit)
+    if (std::find(out.begin(), out.end(), d.second) == out.end()) out.push_back(d.second);
   return out;
 }
 

@@ -19,6 +19,14 @@ class SizeDeficit {
   /// `sizes` in mesh units.
   explicit SizeDeficit(const RadiusDistribution& sizes);
 
+  /// Classes so rare that the whole fill expects at most `first_wave`
+  /// spheres of them (out of `expected`), and larger than the commonest
+  /// class, are born first, largest first, until their share of `expected`
+  /// is in: a large sphere finds room only while the mesh is still empty
+  /// (a 1:10 mix by volume expects one large sphere in a thousand, and its
+  /// deficit by number would lead only after a thousand births).
+  void front_load(double expected, double first_wave);
+
   /// Counts the spheres present (their radii) afresh.
   void recount(const std::vector<double>& radii);
   void add(double radius) { ++count_[class_of(radius)], ++total_; }
@@ -44,6 +52,7 @@ class SizeDeficit {
   RadiusDistribution sizes_;
   std::vector<SizeClass> classes_;
   std::vector<size_t> count_;
+  std::vector<size_t> first_quota_;  ///< per class: spheres born ahead of the others (front_load)
   size_t total_ = 0;
 };
 

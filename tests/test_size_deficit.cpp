@@ -1,0 +1,41 @@
+// SizeDeficit: which size class the next sphere takes (src/fill/size_deficit.hpp).
+#include <doctest/doctest.h>
+
+#include "fill/size_deficit.hpp"
+#include "pfill/radius_distribution.hpp"
+
+using namespace pfill;
+
+TEST_CASE("size classes: the one furthest below its share goes first") {
+  SizeDeficit d(RadiusDistribution::parse("discrete:1:0.5,2:0.5"));
+  REQUIRE(d.classes() == 2);
+  CHECK(d.candidates().front() == 1);  // a tie: the larger
+  d.add(2);
+  CHECK(d.candidates().front() == 0);
+  d.add(1);
+  d.add(1);
+  CHECK(d.candidates().front() == 1);
+}
+
+TEST_CASE("size classes: rare large spheres are born first, then the shares rule again") {
+  // 1:10 at half the volume each: one large sphere in 1,001 by number.
+  const auto mix = RadiusDistribution::parse("discrete:1:0.5,10:0.5", FractionBasis::Volume);
+  SizeDeficit plain(mix);
+  CHECK(plain.candidates().front() == 0);  // by number the small ones lead for ~1,000 births
+
+  SizeDeficit d(mix);
+  d.front_load(4000, 25);  // ~4 large expected, fewer than a wave's sites
+  for (int i = 0; i < 4; ++i) {
+    REQUIRE(d.candidates().front() == 1);
+    d.add(10);
+  }
+  CHECK(d.candidates().front() == 0);
+  d.add(1);
+  CHECK(d.candidates().front() == 0);
+
+  // Common classes are not front-loaded: half the number each stays interleaved.
+  SizeDeficit even(RadiusDistribution::parse("discrete:1:0.5,2:0.5"));
+  even.front_load(16000, 25);
+  even.add(2);
+  CHECK(even.candidates().front() == 0);
+}
