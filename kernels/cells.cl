@@ -187,6 +187,15 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
   }
 }
 
+// Whether j belongs in i's list: within the cutoff of their pair, or
+// touching (a pair of large spheres touches past the cutoff of the smallest).
+inline bool pf_in_list_range(const float4 xi, const float4 xj) {
+  float4 d = xi - xj;
+  d.w = 0.0f;
+  const float rs = xi.w + xj.w;
+  return dot(d, d) < fmax(PF_RC2 * PF_PAIR_Q2(rs), rs * rs);
+}
+
 /* For tests: the indices of each particle's neighbours (pairs the step
  * considers: d^2 < max(rc^2 q2, (r_i + r_j)^2), q2 the pair's scale), at most max_out each. */
 __kernel void list_neighbours(__global const float4* X, __global const uint* counts, __global const float* slots,
@@ -211,11 +220,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
           for (uint k = 0; k < m; ++k) {
             const uint j = as_uint(slots[g.slot0 + in_level * 5u * g.cap + PF_SLOT(k, 4u)]);
             if (j == i) continue;
-            const float4 xj = X[j];
-            float4 d = xi - xj;
-            d.w = 0.0f;
-            const float rs = xi.w + xj.w;
-            if (dot(d, d) < fmax(PF_RC2 * PF_PAIR_Q2(rs), rs * rs)) {
+            if (pf_in_list_range(xi, X[j])) {
               if (found < max_out) out[i * max_out + found] = j;
               ++found;
             }
@@ -235,11 +240,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
         for (uint k = 0; k < m; ++k) {
           const uint j = as_uint(slots[cell * PF_BLOCK + PF_SLOT(k, 4u)]);
           if (j == i) continue;
-          const float4 xj = X[j];
-          float4 d = xi - xj;
-          d.w = 0.0f;
-          const float rs = xi.w + xj.w;
-          if (dot(d, d) < fmax(PF_RC2 * PF_PAIR_Q2(rs), rs * rs)) {
+          if (pf_in_list_range(xi, X[j])) {
             if (found < max_out) out[i * max_out + found] = j;
             ++found;
           }

@@ -14,6 +14,24 @@
 
 namespace pfill::test {
 
+// The step forms and the CPU form's variants, for tests that compare each
+// with the double reference.
+struct StepFormCase {
+  const char* name;
+  StepForm form;
+  Newton newton;
+  PairQueue queue;
+  InnerLists inner;
+};
+inline const StepFormCase kStepForms[] = {
+    {"gpu", StepForm::gpu, Newton::automatic, PairQueue::automatic, InnerLists::automatic},
+    {"cpu newton queue", StepForm::cpu, Newton::on, PairQueue::on, InnerLists::off},
+    {"cpu newton rows", StepForm::cpu, Newton::on, PairQueue::off, InnerLists::off},
+    {"cpu newton inner", StepForm::cpu, Newton::on, PairQueue::off, InnerLists::on},
+    {"cpu twice queue", StepForm::cpu, Newton::off, PairQueue::on, InnerLists::off},
+    {"cpu twice inner", StepForm::cpu, Newton::off, PairQueue::off, InnerLists::on},
+};
+
 // Exact signed distance of a sphere (centre 0, radius R) and of a box (centre 0, half-extents h).
 inline double sphere_distance(const Vec3& p, double R) { return length(p) - R; }
 inline double box_distance(const Vec3& p, const Vec3& h) {

@@ -22,19 +22,8 @@ using namespace pfill::test;
 
 namespace {
 
-struct Form {
-  const char* name;
-  StepForm form;
-  Newton newton;
-  PairQueue queue;
-  InnerLists inner;
-};
-const Form kForms[] = {
-    {"gpu", StepForm::gpu, Newton::automatic, PairQueue::automatic, InnerLists::automatic},
-    {"cpu newton queue", StepForm::cpu, Newton::on, PairQueue::on, InnerLists::off},
-    {"cpu newton rows", StepForm::cpu, Newton::on, PairQueue::off, InnerLists::off},
-    {"cpu twice inner", StepForm::cpu, Newton::off, PairQueue::off, InnerLists::on},
-};
+using Form = StepFormCase;
+const Form kForms[] = {kStepForms[0], kStepForms[1], kStepForms[2], kStepForms[5]};
 
 constexpr double kR = 0.5;
 constexpr double kBall = 4.0;

@@ -25,22 +25,8 @@ namespace {
 
 constexpr double kSmall = 0.25;  // EngineParams::radius: the smallest sphere
 
-// A step form and the CPU form's variants.
-struct Form {
-  const char* name;
-  StepForm form;
-  Newton newton;
-  PairQueue queue;
-  InnerLists inner;
-};
-const Form kForms[] = {
-    {"gpu", StepForm::gpu, Newton::automatic, PairQueue::automatic, InnerLists::automatic},
-    {"cpu newton queue", StepForm::cpu, Newton::on, PairQueue::on, InnerLists::off},
-    {"cpu newton rows", StepForm::cpu, Newton::on, PairQueue::off, InnerLists::off},
-    {"cpu newton inner", StepForm::cpu, Newton::on, PairQueue::off, InnerLists::on},
-    {"cpu twice queue", StepForm::cpu, Newton::off, PairQueue::on, InnerLists::off},
-    {"cpu twice inner", StepForm::cpu, Newton::off, PairQueue::off, InnerLists::on},
-};
+using Form = StepFormCase;
+const auto& kForms = kStepForms;
 
 EngineParams poly_params(const Form& f, double cutoff_sigma, double max_radius) {
   EngineParams p;
