@@ -27,6 +27,14 @@ void SizeDeficit::front_load(double expected, double first_wave) {
   }
 }
 
+std::vector<double> SizeDeficit::front_radii(std::mt19937_64& rng) const {
+  std::vector<double> out;
+  for (size_t k = first_quota_.size(); k-- > 0;)
+    for (size_t n = count_[k]; n < first_quota_[k]; ++n) out.push_back(draw(k, rng));
+  std::stable_sort(out.begin(), out.end(), [](double a, double b) { return a > b; });
+  return out;
+}
+
 void SizeDeficit::recount(const std::vector<double>& radii) {
   std::fill(count_.begin(), count_.end(), 0);
   for (double r : radii) ++count_[class_of(r)];
@@ -60,7 +68,9 @@ std::vector<size_t> SizeDeficit::candidates(double surplus_share) const {
 bool SizeDeficit::may_lose(size_t k, double surplus_share) const {
   if (total_ == 0 || count_[k] == 0) return false;
   const double left = static_cast<double>(total_ - 1);
-  return static_cast<double>(count_[k] - 1) - classes_[k].number_share * left > -std::max(1.0, surplus_share * left);
+  const double share = classes_[k].number_share * left;
+  const double allowed = std::max(std::min(1.0, 0.01 * share), surplus_share * left);
+  return static_cast<double>(count_[k] - 1) - share > -allowed;
 }
 
 double SizeDeficit::take_within(double room, std::mt19937_64& rng) {
