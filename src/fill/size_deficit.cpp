@@ -23,7 +23,7 @@ void SizeDeficit::front_load(double expected, double first_wave) {
     if (classes_[k].number_share > classes_[commonest].number_share) commonest = k;
   for (size_t k = commonest + 1; k < classes_.size(); ++k) {
     const double quota = classes_[k].number_share * expected;
-    if (quota <= first_wave) first_quota_[k] = static_cast<size_t>(std::ceil(quota));
+    if (quota <= first_wave) first_quota_[k] = static_cast<size_t>(std::ceil(quota - 1e-6));  // (a whole count, fill_scale_for_count)
   }
 }
 
