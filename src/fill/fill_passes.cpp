@@ -59,9 +59,9 @@ void FillPasses::place_large_first(const ScalarGrid& field) {
   if (!sizes_) return;
   const std::vector<double> radii = sizes_->front_radii(rng_);
   if (radii.empty()) return;
-  // Clear of the wall by the finish's margin and half a smallest radius,
-  // and of each other by a smallest radius: every placed sphere starts
-  // with no force on it, and small ones can pass between two of them.
+  // Clear of the wall by half a smallest radius (past the finish's wall
+  // margin) and of each other by a smallest radius: every placed sphere
+  // starts with no force on it.
   LargeFirstSettings s;
   s.wall_gap = 0.5 * plan_.radius;
   s.pair_gap = plan_.radius;
