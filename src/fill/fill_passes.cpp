@@ -7,6 +7,7 @@
 
 #include "fill/centre_grid.hpp"
 #include "fill/large_first.hpp"
+#include "pfill/count_rule.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
@@ -21,10 +22,12 @@ namespace {
 // before. A room site takes a newborn only where no centre lies within this
 // many rest distances, so that newborn overlaps nobody.
 constexpr double kRoomUntil = 0.25, kRoomClearance = 1.0;
-// Unequal spheres: a class larger than the commonest that the fill expects
-// at most this many times (or at most as many times as there are sites) is
-// placed before pass 1 (place_large_first): a handful of large spheres
-// finds room only while the mesh is empty.
+// Unequal spheres: where the mix has inclusions (count_rule.hpp: radii 4
+// times the commonest's and more, rare), a class larger than the commonest
+// that the fill expects at most this many times (other mixes: at most as
+// many times as there are sites) is placed before pass 1
+// (place_large_first): a handful of large spheres finds room only while
+// the mesh is empty.
 constexpr double kPlacedFirst = 16;
 
 std::vector<size_t> take_flagged(ParticleEngine& e) {
@@ -50,7 +53,8 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       newest_(Engine::kGone) {
   if (plan.sizes) {
     sizes_.emplace(*plan.sizes);
-    sizes_->front_load(plan.expected, std::max(kPlacedFirst, static_cast<double>(sites_.size())));
+    const double sites = static_cast<double>(sites_.size());
+    sizes_->front_load(plan.expected, inclusions_of(*plan.sizes).number_share > 0 ? std::max(kPlacedFirst, sites) : sites);
   }
 }
 

@@ -10,9 +10,11 @@ namespace {
 // Classes a continuous law is drawn by: fine enough that a class's own
 // spread matters little, few enough that each holds many spheres.
 constexpr int kBins = 16;
-// A class expected fewer times than this is rare: it loses no sphere below
-// its share (one large sphere of four is an eighth of a 1:10 mix's volume).
-constexpr double kRareClass = 16;
+// A class expected fewer times than this, and at most this share by
+// number, is rare: it loses no sphere below its share (one large sphere of
+// four is an eighth of a 1:10 mix's volume). A law's bins, a sixteenth of
+// the number each, are not rare even in a small fill.
+constexpr double kRareClass = 16, kRareShare = 0.02;
 
 }  // namespace
 
@@ -72,7 +74,8 @@ bool SizeDeficit::may_lose(size_t k, double surplus_share) const {
   if (total_ == 0 || count_[k] == 0) return false;
   const double left = static_cast<double>(total_ - 1);
   const double share = classes_[k].number_share * left;
-  const double allowed = share < kRareClass ? 0 : std::max(1.0, surplus_share * left);
+  const bool rare = share < kRareClass && classes_[k].number_share <= kRareShare;
+  const double allowed = rare ? 0 : std::max(1.0, surplus_share * left);
   return static_cast<double>(count_[k] - 1) - share > -allowed;
 }
 

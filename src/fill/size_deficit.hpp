@@ -44,8 +44,8 @@ class SizeDeficit {
   std::vector<size_t> candidates(double surplus_share = 0.002) const;
   /// Whether a sphere of class k may go without leaving its class short
   /// of its share by more than the surplus a class may run ahead by (at
-  /// least one sphere; a rare class, expected fewer than 16 times, loses
-  /// none below its share).
+  /// least one sphere; a rare class, expected fewer than 16 times and at
+  /// most 2% by number, loses none below its share).
   bool may_lose(size_t k, double surplus_share = 0) const;
   /// A sphere for a hole with `room` (the largest radius it takes): of the
   /// first of candidates() whose smallest radius fits, drawn inside the
