@@ -125,3 +125,24 @@ TEST_CASE("radii refuse a radius and sparse rest distances, in one line") {
   o.rest_distance = 2;
   CHECK_THROWS_WITH_AS(fill(make_icosphere(1.0, 3), o), doctest::Contains("rest_distance"), Error);
 }
+
+TEST_CASE("a rare large class (1:4, 30% of the volume, 5 spheres): every one placed and kept, the shares held") {
+  // 1:4 with 30% of the volume in the large: one large sphere to ~150
+  // small. By number the large class would lead only after ~150 births,
+  // when the sites are crowded (main: 2 of 5 born, 16.6% of the volume);
+  // placed before pass 1, its whole quota is in. The count rule gives the
+  // large a whole number (4.99 at -n 750: 5) and counts the small spheres'
+  // packing around them, so the volume shares hold.
+  const FillResult r = fill(make_cube(1.0, 2), unequal_fill("discrete:1:0.7,4:0.3", 750, FractionBasis::Volume));
+  check_hard_and_inside(r, 0.001);
+  REQUIRE(r.radii_fit);
+  INFO(r.radii_fit->describe());
+  REQUIRE(r.radii_fit->classes.size() == 2);
+  const double large = r.radii->max_radius();
+  size_t n_large = 0;
+  for (double x : r.particles.radii) n_large += std::abs(x - large) < 1e-6 * large;
+  CHECK(r.radii_fit->classes[1].requested_number * static_cast<double>(r.expected) == doctest::Approx(5).epsilon(0.01));
+  CHECK(n_large == 5);
+  CHECK(r.warnings.empty());
+  CHECK(std::abs(r.radii_fit->classes[1].achieved_volume - 0.3) <= 0.015);
+}

@@ -39,3 +39,14 @@ TEST_CASE("size classes: rare large spheres are born first, then the shares rule
   even.add(2);
   CHECK(even.candidates().front() == 0);
 }
+
+TEST_CASE("size classes: a rare class loses no sphere below its share, a common one may lose one") {
+  SizeDeficit d(RadiusDistribution::parse("discrete:1:0.5,10:0.5", FractionBasis::Volume));
+  for (int i = 0; i < 3996; ++i) d.add(1);
+  for (int i = 0; i < 4; ++i) d.add(10);
+  CHECK_FALSE(d.may_lose(1));  // 4 of 3.996 expected: a fifth of its volume would go
+  CHECK(d.may_lose(0));
+  SizeDeficit even(RadiusDistribution::parse("discrete:1:0.5,2:0.5"));
+  for (int i = 0; i < 100; ++i) even.add(1), even.add(2);
+  CHECK(even.may_lose(1));  // 99 of 99.5: within one sphere
+}

@@ -63,6 +63,7 @@ class FillRun {
     prepare();
     note_device_times();
     FillPasses passes(*engine_, o_, plan_, sites_, room_sites_, reporter_, result_);
+    passes.place_large_first(field_);
     passes.pass1();
     note_device_times();
     passes.pass2();

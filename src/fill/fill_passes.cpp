@@ -6,6 +6,8 @@
 #include <cstdio>
 
 #include "fill/centre_grid.hpp"
+#include "fill/large_first.hpp"
+#include "pfill/count_rule.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
@@ -20,6 +22,13 @@ namespace {
 // before. A room site takes a newborn only where no centre lies within this
 // many rest distances, so that newborn overlaps nobody.
 constexpr double kRoomUntil = 0.25, kRoomClearance = 1.0;
+// Unequal spheres: where the mix has inclusions (count_rule.hpp: radii 4
+// times the commonest's and more, rare), a class larger than the commonest
+// that the fill expects at most this many times (other mixes: at most as
+// many times as there are sites) is placed before pass 1
+// (place_large_first): a handful of large spheres finds room only while
+// the mesh is empty.
+constexpr double kPlacedFirst = 16;
 
 std::vector<size_t> take_flagged(ParticleEngine& e) {
   std::vector<size_t> out = e.flagged_particles();
@@ -44,8 +53,38 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       newest_(Engine::kGone) {
   if (plan.sizes) {
     sizes_.emplace(*plan.sizes);
-    sizes_->front_load(plan.expected, static_cast<double>(sites_.size()));
+    const double sites = static_cast<double>(sites_.size());
+    sizes_->front_load(plan.expected, inclusions_of(*plan.sizes).number_share > 0 ? std::max(kPlacedFirst, sites) : sites);
   }
+}
+
+// ---- before pass 1: the rare large spheres, placed ----
+void FillPasses::place_large_first(const ScalarGrid& field) {
+  if (!sizes_) return;
+  const std::vector<double> radii = sizes_->front_radii(rng_);
+  if (radii.empty()) return;
+  // Clear of the wall by half a smallest radius (past the finish's wall
+  // margin) and of each other by a smallest radius: every placed sphere
+  // starts with no force on it.
+  LargeFirstSettings s;
+  s.wall_gap = 0.5 * plan_.radius;
+  s.pair_gap = plan_.radius;
+  const LargePlacement placed = pfill::place_large_first(field, radii, s);
+  std::vector<Particle> ps;
+  for (size_t k = 0; k < placed.centres.size(); ++k) {
+    Particle p = newborn_at(placed.centres[k], placed.radii[k]);
+    p.velocity = Vec3();
+    ps.push_back(p);
+    sizes_->add(p.radius);
+    snapshot_.push_back(p.position);
+    snapshot_radii_.push_back(p.radius);
+  }
+  if (!ps.empty()) engine_.add_particles(ps);
+  sizes_->end_front_load();
+  if (placed.centres.size() < radii.size())
+    result_.warnings.push_back("only " + std::to_string(placed.centres.size()) + " of the " +
+                               std::to_string(radii.size()) + " largest spheres (radius up to " +
+                               short_number(radii.front()) + ") fit in the mesh: that class ends short of its share");
 }
 
 // ---- pass 1: births until the object is overfull ----

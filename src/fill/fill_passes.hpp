@@ -31,6 +31,11 @@ class FillPasses {
   FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan, std::vector<BirthSite> sites,
              std::vector<BirthSite> room_sites, FillReporter& reporter, FillResult& result);
 
+  /// Unequal spheres with a rare large class (SizeDeficit::front_load):
+  /// its quota placed at rest at deep points of `field`, clear of the wall
+  /// and of each other, before pass 1 (large_first.hpp); a warning when
+  /// fewer fit. Nothing for other fills.
+  void place_large_first(const ScalarGrid& field);
   void pass1();
   void pass2();
   void settle();

@@ -10,6 +10,11 @@ namespace {
 // Classes a continuous law is drawn by: fine enough that a class's own
 // spread matters little, few enough that each holds many spheres.
 constexpr int kBins = 16;
+// A class expected fewer times than this, and at most this share by
+// number, is rare: it loses no sphere below its share (one large sphere of
+// four is an eighth of a 1:10 mix's volume). A law's bins, a sixteenth of
+// the number each, are not rare even in a small fill.
+constexpr double kRareClass = 16, kRareShare = 0.02;
 
 }  // namespace
 
@@ -23,8 +28,16 @@ void SizeDeficit::front_load(double expected, double first_wave) {
     if (classes_[k].number_share > classes_[commonest].number_share) commonest = k;
   for (size_t k = commonest + 1; k < classes_.size(); ++k) {
     const double quota = classes_[k].number_share * expected;
-    if (quota <= first_wave) first_quota_[k] = static_cast<size_t>(std::ceil(quota));
+    if (quota <= first_wave) first_quota_[k] = static_cast<size_t>(std::ceil(quota - 1e-6));  // (a whole count, fill_scale_for_count)
   }
+}
+
+std::vector<double> SizeDeficit::front_radii(std::mt19937_64& rng) const {
+  std::vector<double> out;
+  for (size_t k = first_quota_.size(); k-- > 0;)
+    for (size_t n = count_[k]; n < first_quota_[k]; ++n) out.push_back(draw(k, rng));
+  std::stable_sort(out.begin(), out.end(), [](double a, double b) { return a > b; });
+  return out;
 }
 
 void SizeDeficit::recount(const std::vector<double>& radii) {
@@ -60,7 +73,10 @@ std::vector<size_t> SizeDeficit::candidates(double surplus_share) const {
 bool SizeDeficit::may_lose(size_t k, double surplus_share) const {
   if (total_ == 0 || count_[k] == 0) return false;
   const double left = static_cast<double>(total_ - 1);
-  return static_cast<double>(count_[k] - 1) - classes_[k].number_share * left > -std::max(1.0, surplus_share * left);
+  const double share = classes_[k].number_share * left;
+  const bool rare = share < kRareClass && classes_[k].number_share <= kRareShare;
+  const double allowed = rare ? 0 : std::max(1.0, surplus_share * left);
+  return static_cast<double>(count_[k] - 1) - share > -allowed;
 }
 
 double SizeDeficit::take_within(double room, std::mt19937_64& rng) {

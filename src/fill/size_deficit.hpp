@@ -26,6 +26,12 @@ class SizeDeficit {
   /// (a 1:10 mix by volume expects one large sphere in a thousand, and its
   /// deficit by number would lead only after a thousand births).
   void front_load(double expected, double first_wave);
+  /// The radii of front_load's quota still to come, largest first (drawn
+  /// inside each class), for placing them before any birth.
+  std::vector<double> front_radii(std::mt19937_64& rng) const;
+  /// The quota is done with: what was placed stands, and the deficit rules
+  /// take it from there (a class that got fewer is not tried first again).
+  void end_front_load() { first_quota_.clear(); }
 
   /// Counts the spheres present (their radii) afresh.
   void recount(const std::vector<double>& radii);
@@ -37,7 +43,9 @@ class SizeDeficit {
   /// (a class may run ahead by `surplus_share` of the spheres, at least one).
   std::vector<size_t> candidates(double surplus_share = 0.002) const;
   /// Whether a sphere of class k may go without leaving its class short
-  /// of its share by more than the surplus a class may run ahead by.
+  /// of its share by more than the surplus a class may run ahead by (at
+  /// least one sphere; a rare class, expected fewer than 16 times and at
+  /// most 2% by number, loses none below its share).
   bool may_lose(size_t k, double surplus_share = 0) const;
   /// A sphere for a hole with `room` (the largest radius it takes): of the
   /// first of candidates() whose smallest radius fits, drawn inside the
