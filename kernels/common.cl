@@ -93,15 +93,18 @@
 #define PF_SKIN 0.2f
 #endif
 
-/* A pair's scale squared q^2 (physics.cl PF_DEFINE_PAIR_SCALE2) from its
+/* A pair's scale squared q^2 (physics.cl PF_DEFINE_PAIR_SCALE2) and its
+ * scale q (PF_DEFINE_PAIR_SCALE: the energy's q^3 and the dashpot) from its
  * r_i + r_j: with unequal spheres (PF_POLY: EngineConstants::polydisperse)
  * the rule, exactly 1 for two reference spheres; with equal ones the
  * constant 1, which the compiler folds away (x * 1 is x), so that equal
  * spheres run the very code and constants they ran before. */
 #if PF_POLY
 #define PF_PAIR_Q2(rs) pf_pair_scale2(rs, PF_RS_REF, PF_INV_RS_REF2)
+#define PF_PAIR_Q(rs) pf_pair_scale(rs, PF_RS_REF, PF_INV_RS_REF)
 #else
 #define PF_PAIR_Q2(rs) 1.0f
+#define PF_PAIR_Q(rs) 1.0f
 #endif
 
 /* Whether a candidate at squared distance d2 with r_i + r_j = rs belongs

@@ -7,12 +7,15 @@
  * k) its entry k; capacities are multiples of 8 entries. */
 #define PF_ROW(list, i) ((list) + (size_t)(i) * PF_LIST_CAP)
 
-/* physics.cl's pair scale at 8 lanes, and PF_PAIR_Q2's 8-lane form. */
+/* physics.cl's pair scales at 8 lanes, and PF_PAIR_Q2's and PF_PAIR_Q's 8-lane forms. */
 PF_DEFINE_PAIR_SCALE2(pf_pair_scale2_8, float8)
+PF_DEFINE_PAIR_SCALE(pf_pair_scale_8, float8)
 #if PF_POLY
 #define PF_PAIR_Q2_8(rs) pf_pair_scale2_8(rs, PF_RS_REF, PF_INV_RS_REF2)
+#define PF_PAIR_Q_8(rs) pf_pair_scale_8(rs, PF_RS_REF, PF_INV_RS_REF)
 #else
 #define PF_PAIR_Q2_8(rs) ((float8)(1.0f))
+#define PF_PAIR_Q_8(rs) ((float8)(1.0f))
 #endif
 #define PF_AT(row, k) ((row)[k])
 

@@ -20,11 +20,12 @@ PF_DEFINE_APART(pf_apart8, float8, int8)
 PF_DEFINE_CONTACT_DAMPING(pf_contact_damping8, float8, pf_rsqrt8)
 
 /* physics.cl's Lennard-Jones force scale for 8 pairs, given 1/d^2 and 1/d,
- * with the prelude's constants, sigma^2 scaled by the pairs' q2 (PF_PAIR_Q2_8). */
+ * with the prelude's constants, sigma^2 scaled by the pairs' q2 (PF_PAIR_Q2_8),
+ * the energy by q2 q (q: PF_PAIR_Q_8). */
 PF_DEFINE_LJ_FORCE_SCALE(pf_lj_force_scale_inv8, float8, pf_pow_half8)
-float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d, float8 q2) {
+float8 pf_lj_force_scale8(float8 inv_d2, float8 inv_d, float8 q2, float8 q) {
   return pf_lj_force_scale_inv8(inv_d2, inv_d, PF_SIGMA2 * q2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF,
-                                PF_FORCE_CAP);
+                                PF_FORCE_CAP, q2 * q);
 }
 
 /* The `valid` lanes' entries jj into the running lowest and highest. */
@@ -46,29 +47,29 @@ void pf_scatter_sub8(__global float4* F, __global const uint* jj, float8 gx, flo
 /* The potential's part of 8 pairs' forces on their first particles, as
  * the scale k of F = k d (d = x_i - x_j; pf_lj_force_scale8, zero beyond
  * the pair's cutoff, rc^2 q2, and where not `near`; d2 finite in every
- * lane; q2 the pairs' scales, PF_PAIR_Q2_8). Pairs on top
+ * lane; q2 and q the pairs' scales, PF_PAIR_Q2_8 and PF_PAIR_Q_8). Pairs on top
  * of each other get physics.cl's pf_apart direction, written back to d
  * and d2. *inv_d: 1/|d|. Shared by the
  * row loop and the pair queue, so both compute the same forces. */
 float8 pf_potential8(float8* dx, float8* dy, float8* dz, float8* d2, int8 near, uint8 i_entry, uint8 jj, float8 q2,
-                     float8* inv_d) {
+                     float8 q, float8* inv_d) {
   const int8 tiny = near & (*d2 < PF_D_MIN * PF_D_MIN);
   if (pf_any8(tiny)) pf_apart8(dx, dy, dz, d2, tiny, jj > i_entry, (float8)(PF_D_MIN));
   /* 1/d^2 by a division, beside (not after) the square root: a shorter chain */
   *inv_d = pf_rsqrt8(*d2);
   const float8 inv_d2 = 1.0f / *d2;
-  return select((float8)(0.0f), pf_lj_force_scale8(inv_d2, *inv_d, q2), near & (*d2 < PF_RC2 * q2));
+  return select((float8)(0.0f), pf_lj_force_scale8(inv_d2, *inv_d, q2, q), near & (*d2 < PF_RC2 * q2));
 }
 
 /* The dashpots of the `contact` lanes (physics.cl pf_contact_damping, 8
  * lanes) added to g, from d, 1/|d| and both sides' velocities and inverse
  * masses. */
 void pf_dashpots8(float8 dx, float8 dy, float8 dz, float8 inv_d, float8 uix, float8 uiy, float8 uiz, float8 imi,
-                  float8 ujx, float8 ujy, float8 ujz, float8 imj, float8 q2, int8 contact, float8* gx, float8* gy,
+                  float8 ujx, float8 ujy, float8 ujz, float8 imj, float8 q, int8 contact, float8* gx, float8* gy,
                   float8* gz) {
   const float8 nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
   const float8 un = (uix - ujx) * nx + (uiy - ujy) * ny + (uiz - ujz) * nz;
-  const float8 cf = select((float8)(0.0f), pf_contact_damping8(un, imi, imj, (float8)(PF_DASHPOT), q2), contact);
+  const float8 cf = select((float8)(0.0f), pf_contact_damping8(un, imi, imj, (float8)(PF_DASHPOT), q), contact);
   *gx += cf * nx;
   *gy += cf * ny;
   *gz += cf * nz;
@@ -105,18 +106,18 @@ __attribute__((always_inline)) float4 pf_row_forces(uint i, float4 xi, float4 vi
     dz = xi.z - dz;
     rs += ri;
     float8 d2 = dx * dx + dy * dy + dz * dz;
-    const float8 q2 = PF_PAIR_Q2_8(rs);
+    const float8 q2 = PF_PAIR_Q2_8(rs), q = PF_PAIR_Q_8(rs);
     const float8 touch2 = fmax(rs * rs, PF_CONTACT2 * q2);
     const int8 near = valid & (d2 < (may_touch ? fmax(touch2, PF_RC2 * q2) : PF_RC2 * q2));
     d2 = select((float8)(1.0f), d2, near); /* masked lanes stay finite */
     float8 inv_d;
-    const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, near, (uint8)(PF_ENTRY(i)), jj, q2, &inv_d);
+    const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, near, (uint8)(PF_ENTRY(i)), jj, q2, q, &inv_d);
     float8 gx = kf * dx, gy = kf * dy, gz = kf * dz;
     const int8 contact = near & (d2 < touch2);
     if (may_touch && pf_any8(contact)) {
       float8 vx, vy, vz, imj;
       pf_row_gather8(V, row + k, &vx, &vy, &vz, &imj);
-      pf_dashpots8(dx, dy, dz, inv_d, vi.x, vi.y, vi.z, inv_mi, vx, vy, vz, imj, q2, contact, &gx, &gy, &gz);
+      pf_dashpots8(dx, dy, dz, inv_d, vi.x, vi.y, vi.z, inv_mi, vx, vy, vz, imj, q, contact, &gx, &gy, &gz);
 #if PF_NEWTON
       overlaps += contact & (d2 < rs * rs);
 #else
@@ -179,18 +180,18 @@ __attribute__((always_inline)) void pf_queue_pairs8(pf_queue* q, uint valid, __g
   const uint8 ii = vload8(0, q->i), jj = vload8(0, q->j);
   float8 dx = vload8(0, q->dx), dy = vload8(0, q->dy), dz = vload8(0, q->dz);
   const float8 rs = vload8(0, q->rs);
-  const float8 q2 = PF_PAIR_Q2_8(rs);
+  const float8 q2 = PF_PAIR_Q2_8(rs), qs = PF_PAIR_Q_8(rs);
   const float8 touch2 = fmax(rs * rs, PF_CONTACT2 * q2);
   float8 d2 = select((float8)(1.0f), dx * dx + dy * dy + dz * dz, ok); /* unused lanes stay finite */
   float8 inv_d;
-  const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, ok, ii, jj, q2, &inv_d);
+  const float8 kf = pf_potential8(&dx, &dy, &dz, &d2, ok, ii, jj, q2, qs, &inv_d);
   float8 gx = kf * dx, gy = kf * dy, gz = kf * dz, gw = (float8)(0.0f);
   const int8 contact = ok & (d2 < touch2);
   if (pf_any8(contact)) {
     float8 vix, viy, viz, imi, vjx, vjy, vjz, imj;
     pf_gather8_private(V, q->i, &vix, &viy, &viz, &imi);
     pf_gather8_private(V, q->j, &vjx, &vjy, &vjz, &imj);
-    pf_dashpots8(dx, dy, dz, inv_d, vix, viy, viz, imi, vjx, vjy, vjz, imj, q2, contact, &gx, &gy, &gz);
+    pf_dashpots8(dx, dy, dz, inv_d, vix, viy, viz, imi, vjx, vjy, vjz, imj, qs, contact, &gx, &gy, &gz);
 #if PF_NEWTON
     gw = select((float8)(0.0f), (float8)(1.0f), contact & (d2 < rs * rs));
 #else

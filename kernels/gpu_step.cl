@@ -146,7 +146,8 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
         float4 d = xi - xj;
         d.w = 0.0f;
         const float rs = ri + xj.w;
-        const float q2 = PF_PAIR_Q2(rs); /* the pair's scale (1 for equal spheres) */
+        const float q2 = PF_PAIR_Q2(rs); /* the pair's scale squared (1 for equal spheres) */
+        const float q = PF_PAIR_Q(rs);   /* and the scale: energy q^3, dashpot */
         const float rc2 = PF_RC2 * q2;
         float d2 = dot(d, d);
         const float touch2 = fmax(rs * rs, PF_CONTACT2 * q2);
@@ -157,13 +158,13 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
           d = (float4)(dx, dy, dz, 0.0f);
         }
         float4 f = pf_lj_force_scale(d2, PF_SIGMA2 * q2, PF_EPS, PF_EXP_A, PF_EXP_B, PF_EXP_A_HALF, PF_EXP_B_HALF, rc2,
-                                     PF_FORCE_CAP) * d;
+                                     PF_FORCE_CAP, q2 * q) * d;
         if (d2 < touch2) {
           const float4 vj = V[j];
           const float4 nrm = d * rsqrt(d2);
           float4 du = vi - vj;
           du.w = 0.0f;
-          f += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT, q2) * nrm;
+          f += pf_contact_damping(dot(du, nrm), inv_mi, vj.w, PF_DASHPOT, q) * nrm;
           if (d2 < rs * rs && j > i) ++pairs;
         }
         f = fmin(fmax(f, (float4)(-PF_FIX_MAX)), (float4)(PF_FIX_MAX)); /* so that no sum leaves 63 bits */

@@ -54,17 +54,35 @@ PF_DEFINE_APART(pf_apart, PF_REAL, int)
  * of a pair's potential and contact scales with the pair's r_i + r_j
  * against the reference pair's 2 radius, q = (r_i + r_j) / (2 radius):
  * sigma_ij = q sigma, rc_ij = q rc, rest_ij = q rest (so the contact
- * distance max(r_i + r_j, rest_ij)), the contact stiffness k / q^2 and so
- * the dashpot's 2 zeta sqrt(k_ij) = dashpot / q (the same restitution for
- * every pair: PF_DEFINE_CONTACT_DAMPING takes q^2). The rule gives
- * q^2 from rs = r_i + r_j, exactly 1 where rs equals the reference
- * pair's rs_ref (as the caller rounds it), so that a pair of reference
- * spheres runs today's constants themselves, bit for bit. */
+ * distance max(r_i + r_j, rest_ij)), and its energy with the pair's
+ * volume, eps_ij = q^3 eps. So the force at a given relative overlap
+ * grows as q^2 (as the force a contact carries under a packing's pressure
+ * does: pressure times area) and the stiffness as q (k_ij = q k, as a
+ * Hooke or Hertz contact's grows with the pair's size), so that every
+ * pair of a packing under one pressure overlaps by about the same
+ * fraction of its radii. (With eps fixed, as before issue 29's density
+ * work, the stiffness fell as k / q^2: at 1:3.3 the largest pairs were
+ * 11x softer than the smallest and overlapped far more.) The dashpot
+ * keeps every pair's restitution: 2 zeta sqrt(k_ij m_eff) = dashpot
+ * sqrt(q m_eff) (PF_DEFINE_CONTACT_DAMPING takes q). With masses by
+ * volume (m ~ q^3) a pair's frequency sqrt(k_ij / m_eff) falls with its
+ * size; only a reference sphere against a much larger one (m_eff near
+ * the reference mass, not half of it) runs sqrt(q / 2) times the
+ * reference pair's frequency: 1.04 at 1:3.3, 1.7 at 1:10, under the
+ * step's margin (dt = tau / 200). The rules give q^2 and q from
+ * rs = r_i + r_j, each exactly 1 where rs equals the reference pair's
+ * rs_ref (as the caller rounds it), so that a pair of reference spheres
+ * runs today's constants themselves, bit for bit. */
 #define PF_DEFINE_PAIR_SCALE2(NAME, T)                                                                    \
   PF_FN T NAME(T rs, PF_REAL rs_ref, PF_REAL inv_rs_ref2) {                                               \
     return select(rs * rs * inv_rs_ref2, (T)1, rs == rs_ref);                                            \
   }
 PF_DEFINE_PAIR_SCALE2(pf_pair_scale2, PF_REAL)
+#define PF_DEFINE_PAIR_SCALE(NAME, T)                                                                     \
+  PF_FN T NAME(T rs, PF_REAL rs_ref, PF_REAL inv_rs_ref) {                                                \
+    return select(rs * inv_rs_ref, (T)1, rs == rs_ref);                                                   \
+  }
+PF_DEFINE_PAIR_SCALE(pf_pair_scale, PF_REAL)
 
 /* Lennard-Jones pair of DESIGN.md with exponents a > b, for squared centre
  * distance d2 > 0 and squared cutoff rc2:
@@ -72,22 +90,23 @@ PF_DEFINE_PAIR_SCALE2(pf_pair_scale2, PF_REAL)
  *   F_i  = (4 eps / d^2) [a (sigma/d)^a - b (sigma/d)^b] (r_i - r_j)
  * PF_DEFINE_LJ_FORCE_SCALE's rule takes 1/d^2 and 1/d (the CPU form
  * computes both beside each other, a shorter chain) and returns k with
- * F_i = k (r_i - r_j) (F_j = -F_i), clamped so that |F_i| <= force_cap;
+ * F_i = k (r_i - r_j) (F_j = -F_i), times the pair's energy scale e (q^3
+ * for unequal spheres, 1 else), clamped so that |F_i| <= force_cap;
  * for a = 2b (12-6) as 4 eps (a sb - b) sb / d^2, two multiplies fewer
  * on the chain from d^2 to the force than the general form. POW_HALF is
  * PF_DEFINE_POW_HALF's rule at the same width. Compares, not fmin / fmax:
  * k is never NaN, and PoCL's fmin handles NaNs. */
 #define PF_DEFINE_LJ_FORCE_SCALE(NAME, T, POW_HALF)                                                        \
   PF_FN T NAME(T inv_d2, T inv_d, T sigma2, PF_REAL eps, PF_REAL a, PF_REAL b, int a_half, int b_half, \
-               PF_REAL force_cap) {                                                                         \
+               PF_REAL force_cap, T e) {                                                                    \
     const T x = sigma2 * inv_d2;                                                                            \
     const T sb = POW_HALF(x, b, b_half);                                                                    \
     T k;                                                                                                    \
     if (b_half > 0 && a_half == 2 * b_half) {                                                               \
-      k = ((PF_REAL)4 * eps * a * sb - (PF_REAL)4 * eps * b) * (sb * inv_d2);                               \
+      k = e * (((PF_REAL)4 * eps * a * sb - (PF_REAL)4 * eps * b) * (sb * inv_d2));                         \
     } else {                                                                                                \
       const T sa = POW_HALF(x, a, a_half);                                                                  \
-      k = (PF_REAL)4 * eps * (a * sa - b * sb) * inv_d2;                                                    \
+      k = e * ((PF_REAL)4 * eps * (a * sa - b * sb) * inv_d2);                                              \
     }                                                                                                       \
     const T k_max = force_cap * inv_d;                                                                      \
     return select(select(k, k_max, k > k_max), -k_max, k < -k_max);                                        \
@@ -96,9 +115,10 @@ PF_DEFINE_LJ_FORCE_SCALE(pf_lj_force_scale_inv, PF_REAL, pf_pow_half)
 
 /* The scale k above from d2 (0 at and beyond the cutoff rc2). */
 PF_FN PF_REAL pf_lj_force_scale(PF_REAL d2, PF_REAL sigma2, PF_REAL eps, PF_REAL a, PF_REAL b, int a_half,
-                                int b_half, PF_REAL rc2, PF_REAL force_cap) {
+                                int b_half, PF_REAL rc2, PF_REAL force_cap, PF_REAL e) {
   if (d2 >= rc2) return (PF_REAL)0;
-  return pf_lj_force_scale_inv((PF_REAL)1 / d2, (PF_REAL)1 / sqrt(d2), sigma2, eps, a, b, a_half, b_half, force_cap);
+  return pf_lj_force_scale_inv((PF_REAL)1 / d2, (PF_REAL)1 / sqrt(d2), sigma2, eps, a, b, a_half, b_half, force_cap,
+                               e);
 }
 
 /* The pair energy u(d) above (shifted to zero at the cutoff), for d2 > 0. */
@@ -119,12 +139,11 @@ PF_FN PF_REAL pf_lj_energy(PF_REAL d2, PF_REAL sigma2, PF_REAL eps, PF_REAL a, P
  * k the potential's stiffness at the rest distance and zeta the damping
  * ratio giving restitution e for that linearised contact:
  * zeta = -ln e / sqrt(pi^2 + ln^2 e) (0 for e = 1: no dissipation).
- * q2: the pair's scale squared (PF_DEFINE_PAIR_SCALE2; 1 for equal
- * spheres), whose stiffness is k / q2, so gamma = dashpot sqrt(m_eff / q2).
- * Returns c. */
+ * q: the pair's scale (PF_DEFINE_PAIR_SCALE; 1 for equal spheres), whose
+ * stiffness is q k, so gamma = dashpot sqrt(q m_eff). Returns c. */
 #define PF_DEFINE_CONTACT_DAMPING(NAME, T, INV_SQRT)                                                     \
-  PF_FN T NAME(T un, T inv_mass_i, T inv_mass_j, T dashpot, T q2) {                                       \
-    return -dashpot * INV_SQRT((inv_mass_i + inv_mass_j) * q2) * un;                                      \
+  PF_FN T NAME(T un, T inv_mass_i, T inv_mass_j, T dashpot, T q) {                                        \
+    return -dashpot * INV_SQRT((inv_mass_i + inv_mass_j) / q) * un;                                       \
   }
 /* 1 / sqrt(x) as the scalar forms round it (the CPU form: x86.cl pf_rsqrt8). */
 PF_FN PF_REAL pf_inv_sqrt(PF_REAL x) { return sqrt((PF_REAL)1 / x); }

@@ -1,6 +1,6 @@
 // Unequal spheres (issue 29, the engine's part): each pair's sigma, cutoff,
-// rest distance and dashpot scale with (r_i + r_j) / (2 radius)
-// (kernels/physics.cl PF_DEFINE_PAIR_SCALE2). Every step form against the
+// rest distance and dashpot scale with q = (r_i + r_j) / (2 radius), its
+// energy with q^3 (kernels/physics.cl PF_DEFINE_PAIR_SCALE2 and _SCALE). Every step form against the
 // double-precision reference on mixtures of radii 1:2 and 1:4, momentum
 // with unequal masses, the wall with each sphere's own radius, a big and a
 // small sphere coming apart to their pair's contact distance, and equal
@@ -106,6 +106,40 @@ TEST_CASE("polydisperse engine: the pair scale is exactly 1 for two reference sp
   CHECK(derive_constants(p).list_reach < 2 * 1.2 + 1.0);
 }
 
+TEST_CASE("polydisperse engine: a pair's energy scales with its volume, q^3, its stiffness with q") {
+  // Two spheres of radius a at a distance d and two of radius q a at q d:
+  // the same shape of pair, q times as large. The energy is q^3 times the
+  // reference pair's (eps_ij = q^3 eps) at every distance, so the force at
+  // the same relative overlap q^2 times and the stiffness q times (as a
+  // contact's under one pressure), not 1/q and 1/q^2 (eps fixed).
+  EngineParams p;
+  p.radius = kSmall;
+  p.max_radius = 4 * kSmall;
+  p.cutoff_sigma = 2.5;
+  p.domain.add({-8, -8, -8});
+  p.domain.add({8, 8, 8});
+  const double q_of[2] = {2.0, 4.0};
+  for (double q : q_of) {
+    for (double d : {0.45, 0.5, 0.55, 0.7}) {  // overlapping, at contact, in the well
+      auto pair_energy = [&](double r, double at) {
+        ReferenceEngine ref(p);
+        std::vector<Particle> two(2);
+        two[0].radius = two[1].radius = r;
+        two[1].position = {at, 0, 0};
+        ref.add_particles(two);
+        return ref.potential_energy();
+      };
+      const double e1 = pair_energy(kSmall, d), eq = pair_energy(q * kSmall, q * d);
+      INFO("q " << q << ", d " << d);
+      REQUIRE(e1 != 0.0);
+      CHECK(eq == doctest::Approx(q * q * q * e1).epsilon(1e-9));
+    }
+    ReferenceEngine ref(p);
+    CHECK(ref.pair_scale(2 * q * kSmall) == doctest::Approx(q).epsilon(1e-12));
+  }
+  CHECK(ReferenceEngine(p).pair_scale(2 * kSmall) == 1.0);  // exactly, as pair_scale2
+}
+
 TEST_CASE("polydisperse engine: every step form matches the reference (radii 1:2 and 1:4 mixed)") {
   for (double cutoff : {0.0, 2.5}) {
     for (const Form& f : kForms) {
@@ -202,11 +236,12 @@ TEST_CASE("polydisperse engine: each sphere stays its own radius inside the wall
 TEST_CASE("polydisperse engine: a big and a small sphere overlapping come apart to their pair's contact distance") {
   for (double cutoff : {0.0, 2.5}) {
     for (const Form& f : {kForms[0], kForms[1], kForms[3]}) {
-      // overdamped (u *= 0.96 a step), so that they creep apart and stop
-      // where the potential's force ends or has its minimum: the pair's
-      // rest distance, here r_i + r_j (5/2 of the reference pair's)
+      // overdamped (u *= 0.8 a step: the pair is 2.5 times as stiff as the
+      // reference pair, k q), so that they creep apart and stop where the
+      // potential's force ends or has its minimum: the pair's rest
+      // distance, here r_i + r_j (5/2 of the reference pair's)
       EngineParams p = poly_params(f, cutoff, 4 * kSmall);
-      p.damping = 20.0;
+      p.damping = 100.0;
       p.domain.add({-4, -4, -4});
       p.domain.add({4, 4, 4});
       std::vector<Particle> two(2);

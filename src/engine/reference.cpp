@@ -118,6 +118,12 @@ double ReferenceEngine::pair_scale2(double rs) const {
   return physics::pf_pair_scale2(rs, rs_ref, 1 / (rs_ref * rs_ref));
 }
 
+double ReferenceEngine::pair_scale(double rs) const {
+  if (!constants_.polydisperse) return 1;
+  const double rs_ref = 2 * params_.radius;
+  return physics::pf_pair_scale(rs, rs_ref, 1 / rs_ref);
+}
+
 StepRecord ReferenceEngine::step() {
   const EngineConstants& c = constants_;
   const double sigma2 = c.sigma * c.sigma, rc2 = c.cutoff * c.cutoff, dmin = 1e-3f * c.sigma;
@@ -138,15 +144,15 @@ StepRecord ReferenceEngine::step() {
       Vec3 d = pi.position - pj.position;
       double d2 = dot(d, d);
       const double rs = pi.radius + pj.radius;
-      const double q2 = pair_scale2(rs);  // the pair's scale (1 for equal spheres)
+      const double q2 = pair_scale2(rs), q = pair_scale(rs);  // the pair's scales (1 for equal spheres)
       if (d2 >= std::max(rc2 * q2, rs * rs)) continue;
       physics::pf_apart(&d.x, &d.y, &d.z, &d2, d2 < dmin * dmin, j > i, dmin);
       force += physics::pf_lj_force_scale(d2, sigma2 * q2, params_.eps, params_.exponent_a, params_.exponent_b,
-                                          c.a_half, c.b_half, rc2 * q2, c.force_cap) * d;
+                                          c.a_half, c.b_half, rc2 * q2, c.force_cap, q2 * q) * d;
       if (d2 < std::max(rs * rs, contact2 * q2)) {
         const Vec3 n = d / std::sqrt(d2);
         force +=
-            physics::pf_contact_damping(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass, c.dashpot, q2) * n;
+            physics::pf_contact_damping(dot(pi.velocity - pj.velocity, n), inv_mi, 1 / pj.mass, c.dashpot, q) * n;
         if (j > i && d2 < rs * rs) ++rec.colliding_pairs;
       }
     }
@@ -202,8 +208,9 @@ double ReferenceEngine::potential_energy() const {
     for (size_t j = i + 1; j < particles_.size(); ++j) {
       const Vec3 d = particles_[i].position - particles_[j].position;
       const double d2 = std::max(dot(d, d), 1e-300);
-      const double q2 = pair_scale2(particles_[i].radius + particles_[j].radius);
-      e += physics::pf_lj_energy(d2, c.sigma * c.sigma * q2, params_.eps, params_.exponent_a, params_.exponent_b,
+      const double rs = particles_[i].radius + particles_[j].radius;
+      const double q2 = pair_scale2(rs), q = pair_scale(rs);
+      e += physics::pf_lj_energy(d2, c.sigma * c.sigma * q2, params_.eps * (q2 * q), params_.exponent_a, params_.exponent_b,
                                  c.a_half, c.b_half, c.cutoff * c.cutoff * q2);
     }
   return e;

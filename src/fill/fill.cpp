@@ -192,7 +192,9 @@ class FillRun {
     // FIRE runs on the OpenCL engine (on LAMMPS the finish relaxes by
     // damping), for equal spheres, and not while compressing: it made room
     // so well that the bunny's compression ran all 30 rounds, and a
-    // lognormal mix of radii ran out of rounds too (docs/finish.md, FIRE).
+    // lognormal mix of radii ran out of rounds too (docs/finish.md, FIRE);
+    // with each pair's energy by its volume (eps q^3) FIRE still ends
+    // below the damped relaxation for mixtures (docs/polydisperse.md).
     s.fire = device_ != nullptr && s.compress_clearance == 0 && !plan_.sizes;
     s.first_id = next_id_;
     s.cancelled = o_.cancelled;

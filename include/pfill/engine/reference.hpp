@@ -27,6 +27,9 @@ class ReferenceEngine final : public ParticleEngine {
   StepRecord step();
   /// A pair's scale squared from its r_i + r_j (physics.cl PF_DEFINE_PAIR_SCALE2; 1 for equal spheres).
   double pair_scale2(double rs) const;
+  /// A pair's scale q from its r_i + r_j (physics.cl PF_DEFINE_PAIR_SCALE; 1 for equal spheres):
+  /// its energy is q^3 eps, its dashpot keeps the restitution at stiffness q k.
+  double pair_scale(double rs) const;
 
   // ParticleEngine: steps one after the other, their records kept until read.
   const EngineParams& params() const override { return params_; }
