@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <random>
 
 #include "fill/centre_grid.hpp"
 #include "fill/counter_rng.hpp"
