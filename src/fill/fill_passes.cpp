@@ -4,14 +4,17 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <random>
 
 #include "fill/centre_grid.hpp"
+#include "fill/counter_rng.hpp"
 #include "fill/large_first.hpp"
 #include "pfill/count_rule.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/error.hpp"
 #include "fill/short_number.hpp"
+#include "fill/site_verdicts.hpp"
 #include "fill/stopwatch.hpp"
 
 namespace pfill {
@@ -48,7 +51,6 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       room_sites_(std::move(room_sites)),
       reporter_(reporter),
       result_(result),
-      rng_(o.seed),
       top_speed_(engine.constants().max_speed),
       newest_(Engine::kGone) {
   if (plan.sizes) {
@@ -61,7 +63,10 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
 // ---- before pass 1: the rare large spheres, placed ----
 void FillPasses::place_large_first(const ScalarGrid& field) {
   if (!sizes_) return;
-  const std::vector<double> radii = sizes_->front_radii(rng_);
+  // Their radii from a stream of their own (counter_rng.hpp: stream 2 of
+  // step 0), the same on every process.
+  std::mt19937_64 rng(CounterRng(o_.seed, 0, 0, 2)());
+  const std::vector<double> radii = sizes_->front_radii(rng);
   if (radii.empty()) return;
   // Clear of the wall by half a smallest radius (past the finish's wall
   // margin) and of each other by a smallest radius: every placed sphere
@@ -72,7 +77,7 @@ void FillPasses::place_large_first(const ScalarGrid& field) {
   const LargePlacement placed = pfill::place_large_first(field, radii, s);
   std::vector<Particle> ps;
   for (size_t k = 0; k < placed.centres.size(); ++k) {
-    Particle p = newborn_at(placed.centres[k], placed.radii[k]);
+    Particle p = newborn_at(placed.centres[k], placed.radii[k], sites_.size() + room_sites_.size() + k);
     p.velocity = Vec3();
     ps.push_back(p);
     sizes_->add(p.radius);
@@ -217,19 +222,11 @@ std::vector<int> FillPasses::run_batch(bool births) {
   const bool frame_due = o_.on_frame && o_.frame_every && engine_.steps_done() / o_.frame_every != last_frame_;
   const bool births_ahead = reporter_.phase() == FillPhase::Pass1 || reporter_.phase() == FillPhase::Pass2;
   if (births_ahead || frame_due) {  // (a hold on births may end next batch)
-    const std::vector<Particle> ps = engine_.read_particles();
-    snapshot_.clear();
-    snapshot_radii_.clear();
-    for (const Particle& p : ps) snapshot_.push_back(p.position);
-    if (sizes_) {
-      for (const Particle& p : ps) snapshot_radii_.push_back(p.radius);
-      sizes_->recount(snapshot_radii_);
-    }
-    newborns_.clear();
     if (frame_due) {
       last_frame_ = engine_.steps_done() / o_.frame_every;
-      o_.on_frame(engine_.steps_done(), to_particle_set(ps));
+      o_.on_frame(engine_.steps_done(), to_particle_set(engine_.read_particles()));
     }
+    take_birth_view();
   }
   if (!history_.empty())
     reporter_.report(engine_.size(), history_.back().kinetic_energy, history_.back().colliding_pairs,
@@ -246,19 +243,25 @@ bool FillPasses::may_birth() const {
 int FillPasses::birth_at_sites() {
   int born = 0;
   const double clearance = plan_.birth_clearance * plan_.rest_distance(o_);
-  for (const BirthSite& site : sites_) {
+  std::vector<int> verdicts(sites_.size(), 0);
+  if (!sizes_) {
+    mark_sites_with_room(view_, sites_, [&](const Vec3& p) { return site_has_room(snapshot_, p, clearance); }, verdicts);
+    share_verdicts(engine_, view_, verdicts);
+  }
+  for (size_t k = 0; k < sites_.size(); ++k) {
     if (!may_birth()) break;
+    const BirthSite& site = sites_[k];
     double radius = plan_.radius;
     if (sizes_) {
       radius = newborn_radius([&](double r) {
         return site_has_room(snapshot_, snapshot_radii_, site.position, r, plan_.birth_clearance) &&
                newborns_clear(site.position, r, clearance);
-      });
+      }, k);
       if (radius <= 0) continue;
-    } else if (!site_has_room(snapshot_, site.position, clearance) || !newborns_clear(site.position, radius, clearance)) {
+    } else if (!verdicts[k] || !newborns_clear(site.position, radius, clearance)) {
       continue;
     }
-    const Particle p = newborn_at(site.position, radius);
+    const Particle p = newborn_at(site.position, radius, k);
     newest_ = engine_.add_particle(p);
     newborns_.push_back({p.position, p.velocity, engine_.steps_done(), radius});
     ++born;
@@ -277,23 +280,34 @@ int FillPasses::birth_wave() {
     // Unequal spheres: room for each newborn's own radius, and the wave's
     // large newborns may reach each other across the sites' spacing.
     const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
-    for (const BirthSite& site : sites_) {
+    for (size_t k = 0; k < sites_.size(); ++k) {
+      const BirthSite& site = sites_[k];
       if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
       const double radius = newborn_radius([&](double r) {
         if (!room.has_room(site.position, r)) return false;
         for (const Particle& b : newborns)
           if (length(b.position - site.position) < plan_.birth_clearance * (r + b.radius)) return false;
         return true;
-      });
-      if (radius > 0) newborns.push_back(newborn_at(site.position, radius));
+      }, k);
+      if (radius > 0) newborns.push_back(newborn_at(site.position, radius, k));
     }
   } else {
+    // Each site's room tested where it is decided, the verdicts shared
+    // (site_verdicts.hpp); then the same newborns on every process.
+    const bool rooms = !capped && room_births_due();
+    std::vector<int> verdicts(sites_.size() + (rooms ? room_sites_.size() : 0), 0);
     const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
-    for (const BirthSite& site : sites_) {
-      if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
-      if (room.has_room(site.position)) newborns.push_back(newborn_at(site.position, plan_.radius));
+    mark_sites_with_room(view_, sites_, [&](const Vec3& p) { return room.has_room(p); }, verdicts);
+    if (rooms) {
+      const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
+      mark_sites_with_room(view_, room_sites_, [&](const Vec3& p) { return clear.has_room(p); }, verdicts, sites_.size());
     }
-    if (!capped) room_births(newborns);
+    share_verdicts(engine_, view_, verdicts);
+    for (size_t k = 0; k < sites_.size(); ++k) {
+      if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
+      if (verdicts[k]) newborns.push_back(newborn_at(sites_[k].position, plan_.radius, k));
+    }
+    if (rooms) room_births(newborns, verdicts);
   }
   if (!newborns.empty()) newest_ = engine_.add_particles(newborns) + newborns.size() - 1;
   return static_cast<int>(newborns.size());
@@ -301,29 +315,66 @@ int FillPasses::birth_wave() {
 
 /// While the fill is sparse (below kRoomUntil of the expected count): a
 /// newborn at each room site where it overlaps no sphere of the snapshot
-/// and none of this wave's newborns.
-void FillPasses::room_births(std::vector<Particle>& newborns) {
-  if (room_sites_.empty() || static_cast<double>(engine_.size()) >= kRoomUntil * plan_.expected) return;
+/// (`verdicts` from sites_.size() on, shared over the processes) and none
+/// of this wave's newborns (the same on every process, in the room sites' order).
+void FillPasses::room_births(std::vector<Particle>& newborns, const std::vector<int>& verdicts) {
   const double clearance = kRoomClearance * plan_.rest_distance(o_);
-  const RoomGrid room(snapshot_, clearance);
   CentreGrid wave(clearance);
   for (size_t k = 0; k < newborns.size(); ++k) wave.insert(newborns[k].position, static_cast<uint32_t>(k));
-  for (const BirthSite& site : room_sites_) {
-    if (!room.has_room(site.position)) continue;
-    if (wave.any_near(site.position, [&](uint32_t k) { return length(newborns[k].position - site.position) < clearance; }))
+  for (size_t k = 0; k < room_sites_.size(); ++k) {
+    const BirthSite& site = room_sites_[k];
+    if (!verdicts[sites_.size() + k]) continue;
+    if (wave.any_near(site.position, [&](uint32_t j) { return length(newborns[j].position - site.position) < clearance; }))
       continue;
     wave.insert(site.position, static_cast<uint32_t>(newborns.size()));
-    newborns.push_back(newborn_at(site.position, plan_.radius));
+    newborns.push_back(newborn_at(site.position, plan_.radius, sites_.size() + k));
   }
+}
+
+/// Room births while the fill is sparse, where the last view reached far
+/// enough for their room test (one process: always).
+bool FillPasses::room_births_due() const {
+  return !room_sites_.empty() && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected &&
+         (view_.complete() || view_reach_ >= kRoomClearance * plan_.rest_distance(o_));
+}
+
+/// How far from its sites a process must see for the next births' room
+/// tests: the birth clearance, and the room sites' while those may birth.
+double FillPasses::birth_reach() const {
+  double share = plan_.birth_clearance;
+  if (!room_sites_.empty() && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected)
+    share = std::max(share, kRoomClearance);
+  return share * plan_.rest_distance(o_);
+}
+
+/// The room tests' view of the particles (ParticleEngine::birth_view): on
+/// the LAMMPS engine at P > 1 this rank's atoms and those within the reach
+/// of its sub-domain; unequal spheres, whose births depend on each other in
+/// the sites' order, see every particle and decide every site.
+void FillPasses::take_birth_view() {
+  view_reach_ = birth_reach();
+  view_ = engine_.birth_view(view_reach_, sizes_.has_value());
+  snapshot_ = std::move(view_.centres);
+  snapshot_radii_.clear();
+  if (sizes_) {
+    snapshot_radii_ = std::move(view_.radii);
+    sizes_->recount(snapshot_radii_);
+  }
+  view_.radii.clear();
+  newborns_.clear();
 }
 
 /// Unequal spheres: the radius of a newborn where `has_room(r)` says
 /// whether one of radius r fits: the size classes furthest below their
 /// shares first (SizeDeficit); 0 when none fits.
 template <class HasRoom>
-double FillPasses::newborn_radius(const HasRoom& has_room) {
+double FillPasses::newborn_radius(const HasRoom& has_room, size_t site) {
+  // The radius' own stream of the site's draws (counter_rng.hpp), seeding
+  // the generator SizeDeficit draws with.
+  CounterRng draws(o_.seed, engine_.steps_done(), site, 1);
+  std::mt19937_64 rng(draws());
   for (size_t k : sizes_->candidates()) {
-    const double r = sizes_->draw(k, rng_);
+    const double r = sizes_->draw(k, rng);
     if (has_room(r)) {
       sizes_->add(r);
       return r;
@@ -332,13 +383,16 @@ double FillPasses::newborn_radius(const HasRoom& has_room) {
   return 0;
 }
 
-Particle FillPasses::newborn_at(const Vec3& position, double radius) {
+/// The newborn at global site `site` (room sites after the sites): its
+/// speed and direction from the stream of (seed, this step, site).
+Particle FillPasses::newborn_at(const Vec3& position, double radius, size_t site) {
+  CounterRng draws(o_.seed, engine_.steps_done(), site);
   Particle p;
   p.position = position;
   p.radius = radius;
   p.id = next_id_++;
-  p.velocity = random_direction() *
-               (top_speed_ * (o_.birth_speed[0] + (o_.birth_speed[1] - o_.birth_speed[0]) * speed_(rng_)));
+  const double speed = o_.birth_speed[0] + (o_.birth_speed[1] - o_.birth_speed[0]) * draws.uniform();
+  p.velocity = draws.direction() * (top_speed_ * speed);
   return p;
 }
 
@@ -353,15 +407,6 @@ bool FillPasses::newborns_clear(const Vec3& site, double radius, double clearanc
     if (length(now - site) < reach) return false;
   }
   return true;
-}
-
-Vec3 FillPasses::random_direction() {
-  std::normal_distribution<double> g(0, 1);
-  for (;;) {
-    const Vec3 v{g(rng_), g(rng_), g(rng_)};
-    const double l = length(v);
-    if (l > 1e-9) return v / l;
-  }
 }
 
 /// Removes the newest particle (the report's "remove the last born"); when

@@ -8,11 +8,13 @@
 // The host runs a batch of steps (`sync_every`, or a wave's `birth_every`),
 // then reads the step history and, while births may follow, a snapshot of
 // the positions that the birth-room test uses; particles the wall flagged
-// outside are removed then.
+// outside are removed then. Each newborn's draws come from a counter-based
+// stream keyed by (seed, step, site) (counter_rng.hpp), and each site's room
+// test runs on the process that decides it (site_verdicts.hpp): the same
+// newborns on any engine and any MPI rank count.
 #pragma once
 #include <cstdint>
 #include <optional>
-#include <random>
 #include <vector>
 
 #include "fill/fill_plan.hpp"
@@ -48,12 +50,14 @@ class FillPasses {
   bool may_birth() const;
   int birth_at_sites();
   int birth_wave();
-  void room_births(std::vector<Particle>& newborns);
-  Particle newborn_at(const Vec3& position, double radius);
+  void take_birth_view();
+  double birth_reach() const;
+  bool room_births_due() const;
+  void room_births(std::vector<Particle>& newborns, const std::vector<int>& verdicts);
+  Particle newborn_at(const Vec3& position, double radius, size_t site);
   bool newborns_clear(const Vec3& site, double radius, double clearance) const;
   template <class HasRoom>
-  double newborn_radius(const HasRoom& has_room);
-  Vec3 random_direction();
+  double newborn_radius(const HasRoom& has_room, size_t site);
   void remove_newest();
   void follow_newest_through_removals(const std::vector<size_t>& removed);
   void renumber_along_cells();
@@ -66,11 +70,13 @@ class FillPasses {
   std::vector<BirthSite> room_sites_;  ///< waves: extra sites for the first births, where nothing overlaps
   FillReporter& reporter_;
   FillResult& result_;
-  std::mt19937_64 rng_;
-  std::uniform_real_distribution<double> speed_{0, 1};
   double top_speed_ = 0;
   std::vector<StepRecord> history_;
-  std::vector<Vec3> snapshot_;   ///< positions at the last read, for the room tests
+  std::vector<Vec3> snapshot_;   ///< positions at the last read, for the room tests (this process's view)
+  /// The last read's view minus its centres and radii (moved to the
+  /// snapshot): which sites this process decides (birth_view.hpp).
+  BirthView view_;
+  double view_reach_ = 0;          ///< the reach that view was taken with
   std::vector<double> snapshot_radii_;  ///< unequal spheres: their radii
   /// Unequal spheres: the size classes' counts, which choose each newborn's radius.
   std::optional<SizeDeficit> sizes_;

@@ -13,6 +13,7 @@
 // host loop runs on every rank), so the engine's bookkeeping of indices and
 // ids is the same everywhere; births go to every rank and each keeps those
 // in its sub-domain (lammps_create_atoms); reads and records are reductions.
+// The births' room test sees only this rank's atoms and a halo (birth_view).
 #ifdef PFILL_WITH_LAMMPS
 #include <algorithm>
 #include <cmath>
@@ -26,6 +27,7 @@
 #include <utility>
 #include <vector>
 
+#include "lammps/birth_halo.hpp"
 #include "lammps/lammps_session.hpp"
 #include "lammps/particle_book.hpp"
 #include "lammps/step_callback.hpp"
@@ -242,6 +244,19 @@ class LammpsEngine final : public ParticleEngine {
   }
 
   void clear_flags() override { step_.flagged_tags().clear(); }
+
+  /// At P > 1: this rank's atoms and the others' within `reach` of its
+  /// sub-domain, whose sites it decides (birth_halo.hpp); no gather.
+  BirthView birth_view(double reach, bool complete) override {
+    flush();
+    if (complete || lmp_->ranks() == 1) return ParticleEngine::birth_view(reach, complete);
+    return lammps_engine::birth_halo(*lmp_, reach);
+  }
+
+  void sum_over_processes(std::vector<int>& counts) override {
+    if (lmp_->ranks() > 1 && !counts.empty())
+      MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT, MPI_SUM, lmp_->comm());
+  }
   size_t size() const override { return book_.size(); }
   uint64_t steps_done() const override { return steps_ + pending_; }
 

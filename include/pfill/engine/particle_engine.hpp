@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "pfill/engine/birth_view.hpp"
 #include "pfill/engine/params.hpp"
 #include "pfill/engine/step_record.hpp"
 #include "pfill/grid.hpp"
@@ -55,6 +56,21 @@ class ParticleEngine {
   /// Indices of particles flagged outside the field since the last clear_flags().
   virtual std::vector<size_t> flagged_particles() = 0;
   virtual void clear_flags() = 0;
+
+  /// What the births' room test sees here (birth_view.hpp): every particle
+  /// within `reach` of the sites this process decides, and which sites
+  /// those are. `complete`: every particle and every site, whatever the
+  /// process count (unequal spheres: their births depend on each other in
+  /// the sites' order). By default (one process): read_particles, every site.
+  virtual BirthView birth_view(double reach, bool complete) {
+    (void)reach, (void)complete;
+    BirthView view;
+    for (const Particle& p : read_particles()) view.centres.push_back(p.position), view.radii.push_back(p.radius);
+    return view;
+  }
+  /// Sums `counts` element by element over the processes that share this
+  /// engine (each passes as many; collective). One process: unchanged.
+  virtual void sum_over_processes(std::vector<int>& counts) { (void)counts; }
   virtual size_t size() const = 0;          ///< particle count
   virtual uint64_t steps_done() const = 0;  ///< steps run (or enqueued)
 

@@ -1,0 +1,32 @@
+// Which birth sites have room, decided where the room test can see it
+// (issue 31): each process tests only the sites its BirthView decides
+// (one process: all of them), then the verdicts are summed over the
+// processes, so every process holds every site's verdict and builds the
+// same newborns, in the sites' order, with the same ids. What depends on
+// other newborns (the pass-2 cap, room sites near this wave's newborns,
+// newborns in flight) is then applied on every process alike.
+#pragma once
+#include <cstddef>
+#include <vector>
+
+#include "pfill/birth_sites.hpp"
+#include "pfill/engine/particle_engine.hpp"
+
+namespace pfill {
+
+/// verdicts[first + k] = 1 where this process decides sites[k] and
+/// `has_room(position)`; the other entries stay as they are.
+template <class HasRoom>
+void mark_sites_with_room(const BirthView& view, const std::vector<BirthSite>& sites, const HasRoom& has_room,
+                          std::vector<int>& verdicts, size_t first = 0) {
+  for (size_t k = 0; k < sites.size(); ++k)
+    if (view.decides(sites[k].position) && has_room(sites[k].position)) verdicts[first + k] = 1;
+}
+
+/// Every process's verdicts, summed (each site has one deciding process):
+/// one MPI_Allreduce on the LAMMPS engine at P > 1, nothing on one process.
+inline void share_verdicts(ParticleEngine& engine, const BirthView& view, std::vector<int>& verdicts) {
+  if (!view.complete()) engine.sum_over_processes(verdicts);
+}
+
+}  // namespace pfill
