@@ -249,3 +249,30 @@ TEST_CASE("largest empty hole and closest centres of a lattice, full and with a 
   // Where the sphere was: 2.02 r to the nearest centres, 1.02 r to their surfaces.
   CHECK(largest_hole_over_r(b, holed, r) == doctest::Approx(1.02).epsilon(0.005));
 }
+
+TEST_CASE("largest empty hole among spheres of radii 1:5: the large sphere's surface bounds it") {
+  // Spheres of r on a lattice, and one of 5 r at the centre in place of
+  // those it would overlap. The hole search keeps the sizes apart (a grid
+  // per size level): a search that lost the large sphere would find a
+  // hole of 2 r (the cap) inside it.
+  const double r = 0.1, big = 5 * r;
+  const Boundary b(make_cube(1.0, 2));
+  ParticleSet mix;
+  mix.positions.push_back(Vec3());
+  mix.radii.push_back(big);
+  for (int i = -4; i <= 4; ++i)
+    for (int j = -4; j <= 4; ++j)
+      for (int k = -4; k <= 4; ++k) {
+        const Vec3 c = Vec3(i, j, k) * (2.02 * r);
+        if (length(c) < big + r) continue;
+        mix.positions.push_back(c);
+        mix.radii.push_back(r);
+      }
+  const Hole h = largest_hole(b, mix, r);
+  double gap = 2 * r;  // the hole's gap by brute force, at the point it gave
+  for (size_t i = 0; i < mix.size(); ++i) gap = std::min(gap, length(mix.positions[i] - h.centre) - mix.radii[i]);
+  CHECK(h.gap_over_r == doctest::Approx(gap / r).epsilon(1e-9));
+  CHECK(h.gap_over_r > std::sqrt(3.0) * 1.01 - 1 + 0.1);  // the shell around the large sphere: wider than the lattice's holes
+  CHECK(h.gap_over_r < 2.0);
+  CHECK(length(h.centre) > big);
+}
