@@ -52,6 +52,10 @@ struct Hole {
   double gap_over_r = 0;
 };
 Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius);
+/// largest_hole's hole first, then the other distinct holes (a radius or
+/// more apart) as wide within a grid step of r / 2, widest first: one
+/// search for the holes a fill may fill before it must look again.
+std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& particles, double radius);
 
 /// Measures `particles` in the mesh of `boundary` (whose volume is given,
 /// since open meshes need the estimate from diagnose()). Parallel.

@@ -10,9 +10,49 @@
 namespace pfill {
 namespace {
 
-// Most holes the exact check fills, one search each; the finish fills the
+// Most holes the exact check fills (a search for each equal sphere); the finish fills the
 // many its field shows, so only a few near the wall are left here.
 constexpr int kMostExactHoles = 32;
+
+/// Holes the field hid (near the wall) or the repair opened take a sphere
+/// where, by exact distances, one fits inside without overlap (a hole fits
+/// a sphere at the rest distance: 2r, or more for sparse fills). Equal
+/// spheres: the widest hole, then a new search. Unequal ones (of a class
+/// short of its share that fits; none: the distribution comes first): every
+/// distinct hole one search found that still fits, then a new search, as a
+/// search at the smallest radius costs many times an equal fill's. Returns
+/// the widest hole left.
+Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<SizeDeficit>& deficit,
+                      const FillOptions& o, ParticleSet& particles, uint64_t& next_id, FillResult& result) {
+  std::mt19937_64 rng(o.seed);
+  std::vector<Hole> holes = largest_holes(boundary, particles, radius);
+  int filled = 0;
+  while (o.hole_rounds > 0 && filled < kMostExactHoles) {
+    const size_t before = particles.size();
+    for (size_t k = 0; k < (deficit ? holes.size() : 1) && filled < kMostExactHoles; ++k) {
+      double gap = holes[k].gap_over_r * radius;  // (less any sphere this round put near it)
+      for (size_t m = before; m < particles.size(); ++m)
+        gap = std::min(gap, length(particles.positions[m] - holes[k].centre) - particles.radii[m]);
+      const double depth = -boundary.signed_distance(holes[k].centre);
+      if (gap < (2 * o.rest_distance - 1) * radius || depth < radius) continue;
+      double r = radius;
+      if (deficit) {
+        deficit->recount(particles.radii);
+        r = deficit->take_within(std::min(gap, depth), rng);
+        if (r == 0) continue;
+      }
+      particles.positions.push_back(holes[k].centre);
+      particles.radii.push_back(r);
+      particles.ids.push_back(next_id++);
+      if (particles.has_velocities()) particles.velocities.push_back({});
+      ++result.holes_filled;
+      ++filled;
+    }
+    if (particles.size() == before) break;
+    holes = largest_holes(boundary, particles, radius);
+  }
+  return holes.front();
+}
 
 }  // namespace
 
@@ -20,30 +60,9 @@ void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, doub
                  const std::optional<RadiusDistribution>& sizes, const FillOptions& o, ParticleSet particles,
                  uint64_t& next_id, FillResult& result) {
   result.containment = repair_containment(boundary, particles, o.containment_tolerance, o.max_overlap);
-  // Holes the field hid (near the wall) or the repair opened take a sphere
-  // where, by exact distances, one fits inside without overlap (a hole fits
-  // a sphere at the rest distance: 2r, or more for sparse fills). The exact
-  // inside test (a majority of rays on open meshes) has the last word.
   std::optional<SizeDeficit> deficit;
   if (sizes) deficit.emplace(*sizes);
-  std::mt19937_64 rng(o.seed);
-  Hole h = largest_hole(boundary, particles, radius);
-  for (int k = 0; k < kMostExactHoles && o.hole_rounds > 0 && h.gap_over_r >= 2 * o.rest_distance - 1 &&
-                  boundary.signed_distance(h.centre) <= -radius;
-       ++k) {
-    double r = radius;
-    if (deficit) {  // of a class short of its share that fits; none: the distribution comes first
-      deficit->recount(particles.radii);
-      r = deficit->take_within(std::min(h.gap_over_r * radius, -boundary.signed_distance(h.centre)), rng);
-      if (r == 0) break;
-    }
-    particles.positions.push_back(h.centre);
-    particles.radii.push_back(r);
-    particles.ids.push_back(next_id++);
-    if (particles.has_velocities()) particles.velocities.push_back({});
-    ++result.holes_filled;
-    h = largest_hole(boundary, particles, radius);
-  }
+  const Hole h = fill_exact_holes(boundary, radius, deficit, o, particles, next_id, result);
   MetricsOptions mo;
   mo.containment_tolerance = o.containment_tolerance;
   mo.holes = false;  // measured just now

@@ -75,6 +75,16 @@ class HoleSearch {
     return {best_at_, best_ / radius_};
   }
 
+  /// run()'s hole first, then the other distinct holes its climb found
+  /// (those within a grid step of the best), widest first.
+  std::vector<Hole> run_all() {
+    std::vector<Hole> out{run()};
+    for (const Hole& c : climbed_)
+      if (length(c.centre - out.front().centre) >= radius_) out.push_back(c);
+    std::stable_sort(out.begin() + 1, out.end(), [](const Hole& a, const Hole& b) { return a.gap_over_r > b.gap_over_r; });
+    return out;
+  }
+
  private:
   // A candidate is 16 bytes (its gap and its grid index; its point is
   // recomputed): over no floor there are ~20 a sphere, which at 32 bytes
@@ -182,6 +192,8 @@ class HoleSearch {
           p, 0.5 * h_, 0.002 * radius_, [&](const Vec3& q) { return gap(q); }, [&](const Vec3& q) { return deep(q); });
       climbed_to[k] = p;
     });
+    climbed_.clear();
+    for (size_t k = 0; k < climbed.size(); ++k) climbed_.push_back({climbed_to[k], climbed[k] / radius_});
     for (size_t k = 0; k < climbed.size(); ++k)
       if (climbed[k] > best_) {
         best_ = climbed[k];
@@ -198,6 +210,7 @@ class HoleSearch {
   double best_ = 0;
   Vec3 best_at_;
   std::vector<Candidate> accepted_;
+  std::vector<Hole> climbed_;  ///< each seed's hole, in units of r
 };
 
 }  // namespace
@@ -205,6 +218,11 @@ class HoleSearch {
 Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius) {
   if (particles.size() == 0 || !(radius > 0)) return {};
   return HoleSearch(boundary, particles, radius).run();
+}
+
+std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& particles, double radius) {
+  if (particles.size() == 0 || !(radius > 0)) return {Hole{}};
+  return HoleSearch(boundary, particles, radius).run_all();
 }
 
 }  // namespace pfill
