@@ -275,4 +275,6 @@ TEST_CASE("largest empty hole among spheres of radii 1:5: the large sphere's sur
   CHECK(h.gap_over_r > std::sqrt(3.0) * 1.01 - 1 + 0.1);  // the shell around the large sphere: wider than the lattice's holes
   CHECK(h.gap_over_r < 2.0);
   CHECK(length(h.centre) > big);
+  // pfill check's figure is the fill's: of the smallest radius.
+  CHECK(measure_packing(b, 8.0, mix).largest_hole == doctest::Approx(h.gap_over_r));
 }

@@ -27,9 +27,10 @@ struct PackingMetrics {
   double containment_tolerance = 0;
   double min_distance = 0;         ///< smallest centre distance over r_i + r_j (1: touching; < 1: overlapping)
   /// Largest empty hole: the largest distance from a point at least r
-  /// inside the mesh to the nearest sphere's surface, over r (r the mean
-  /// radius). At 1 or more a sphere fits there, inside and overlapping
-  /// none. Negative when not measured (MetricsOptions::holes).
+  /// inside the mesh to the nearest sphere's surface, over r (r the
+  /// smallest radius, as the fill measures it). At 1 or more a sphere of
+  /// the smallest radius fits there, inside and overlapping none.
+  /// Negative when not measured (MetricsOptions::holes).
   double largest_hole = -1;
 };
 

@@ -105,9 +105,10 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   }
   m.min_distance = std::isfinite(min_ratio) ? min_ratio : 0;
   if (options.holes) {
-    double mean_r = 0;
-    for (double r : particles.radii) mean_r += r;
-    m.largest_hole = largest_hole_over_r(boundary, particles, mean_r / particles.size());
+    // Of the smallest radius, as the fill measures it: a hole over 1 takes
+    // the smallest sphere (equal spheres: r).
+    const double smallest = *std::min_element(particles.radii.begin(), particles.radii.end());
+    m.largest_hole = largest_hole_over_r(boundary, particles, smallest);
   }
   return m;
 }
