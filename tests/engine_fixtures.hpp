@@ -22,6 +22,15 @@ struct StepFormCase {
   Newton newton;
   PairQueue queue;
   InnerLists inner;
+
+  /// `p` set to step in this form.
+  EngineParams& apply(EngineParams& p) const {
+    p.step_form = form;
+    p.newton = newton;
+    p.pair_queue = queue;
+    p.inner_lists = inner;
+    return p;
+  }
 };
 inline const StepFormCase kStepForms[] = {
     {"gpu", StepForm::gpu, Newton::automatic, PairQueue::automatic, InnerLists::automatic},

@@ -33,10 +33,7 @@ const auto& kForms = kStepForms;
 
 EngineParams params_for(const Form& f, double cutoff_sigma) {
   EngineParams p;
-  p.step_form = f.form;
-  p.newton = f.newton;
-  p.pair_queue = f.queue;
-  p.inner_lists = f.inner;
+  f.apply(p);
   p.radius = kSmall;
   p.max_radius = kLarge;
   p.cutoff_sigma = cutoff_sigma;

@@ -30,10 +30,7 @@ constexpr double kBall = 4.0;
 
 EngineParams fire_params(const Form& f) {
   EngineParams p;
-  p.step_form = f.form;
-  p.newton = f.newton;
-  p.pair_queue = f.queue;
-  p.inner_lists = f.inner;
+  f.apply(p);
   p.radius = kR;
   p.cutoff_sigma = 0;  // purely repulsive, as the finish
   p.restitution = 1;   // no dashpots: FIRE alone takes the energy out

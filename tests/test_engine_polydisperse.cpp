@@ -30,10 +30,7 @@ const auto& kForms = kStepForms;
 
 EngineParams poly_params(const Form& f, double cutoff_sigma, double max_radius) {
   EngineParams p;
-  p.step_form = f.form;
-  p.newton = f.newton;
-  p.pair_queue = f.queue;
-  p.inner_lists = f.inner;
+  f.apply(p);
   p.radius = kSmall;
   p.max_radius = max_radius;
   p.cutoff_sigma = cutoff_sigma;
