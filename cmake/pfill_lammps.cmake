@@ -12,7 +12,14 @@ if(NOT PFILL_WITH_LAMMPS STREQUAL "OFF")
     find_package(LAMMPS REQUIRED)
   else()
     find_package(MPI QUIET COMPONENTS CXX)
-    if(MPI_CXX_FOUND)
+    # Debian's LAMMPS package config names /usr/bin/lmp (package lammps) and
+    # stops configuring when it is absent, QUIET or not: look before asking.
+    find_file(PFILL_LAMMPS_CONFIG LAMMPSConfig.cmake
+      PATH_SUFFIXES lib/${CMAKE_LIBRARY_ARCHITECTURE}/cmake/LAMMPS lib/cmake/LAMMPS)
+    find_program(PFILL_LMP lmp)
+    if(MPI_CXX_FOUND AND PFILL_LAMMPS_CONFIG AND NOT PFILL_LMP)
+      message(STATUS "pfill: LAMMPS found without its lmp program (Debian package lammps): the LAMMPS engine is left out")
+    elseif(MPI_CXX_FOUND)
       find_package(LAMMPS QUIET)
     endif()
   endif()

@@ -14,6 +14,7 @@ PACKAGES=(
   oclgrind
   pybind11-dev python3-dev python3-numpy python3-pytest
   liblammps-dev libopenmpi-dev openmpi-bin  # the LAMMPS engine (--engine lammps; optional in the build)
+  lammps  # lmp: Debian's LAMMPS CMake package names /usr/bin/lmp, and the read_data client test runs it
 )
 
 # The Khronos glTF validator (an npm package) checks our GLB files in the
