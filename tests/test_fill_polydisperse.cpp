@@ -175,3 +175,19 @@ TEST_CASE("a rare large class that cannot all fit (1:4, half the volume, 12 sphe
   REQUIRE(r.warnings.size() == 1);
   CHECK(r.warnings.front().find("held to their shares") != std::string::npos);
 }
+
+TEST_CASE("radii in mesh units whose rare large class cannot all fit: kept, and the others held to those placed") {
+  // The mix above at the count rule's radii for -n 750, given in mesh units
+  // (no count): they are the user's, so they stay; 8 of the 12 large fit,
+  // and the small are held to their share of those 8.
+  const FillResult r = fill(make_cube(1.0, 2), unequal_fill("discrete:0.0934:0.5,0.374:0.5", 0, FractionBasis::Volume));
+  check_hard_and_inside(r, 0.001);
+  REQUIRE(r.radii_fit);
+  INFO(r.radii_fit->describe());
+  CHECK(r.radii->max_radius() == doctest::Approx(0.374));
+  for (const auto& c : r.radii_fit->classes) CHECK(std::abs(c.achieved_volume - 0.5) <= 0.01);
+  REQUIRE(r.warnings.size() == 1);
+  INFO(r.warnings.front());
+  CHECK(r.warnings.front().rfind("only ", 0) == 0);
+  CHECK(r.warnings.front().find("held to their shares") != std::string::npos);
+}

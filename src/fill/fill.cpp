@@ -163,13 +163,13 @@ class FillRun {
       room_sites_ = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
   }
 
-  // Unequal spheres whose rare large ones do not all fit at the count
-  // rule's radii: every radius shrinks until they do (large_first_scale.hpp),
+  // Unequal spheres sized by a count whose rare large ones do not all fit
+  // at the count rule's radii: every radius shrinks until they do (large_first_scale.hpp),
   // the plan and sites again at that scale, on the field already built
   // (its spacing a little coarser against the new radii, which the final
   // exact check makes good; its band and margin reach past the largest).
   void rescale_for_large_first() {
-    if (!plan_.sizes) return;
+    if (!plan_.sizes || o_.count == 0) return;  // radii in mesh units (no count) are the user's: kept
     const double scale = large_first_scale(field_, plan_, sites_.size(), o_.seed);
     if (scale == 1) return;
     const SdfOptions field = plan_.field;

@@ -57,7 +57,7 @@ double large_first_scale(const ScalarGrid& field, const FillPlan& plan, size_t s
   if (radii.empty() || fits(1)) return 1;
   double fit = kScaleStep, miss = 1;
   for (int k = 1; !fits(fit); ++k, miss = fit, fit *= kScaleStep)
-    if (k == kScaleTries) return fit;  // none fits them all: the caps hold the shares of those placed
+    if (k == kScaleTries) return 1;  // none fits them all: the count rule's radii, the shares held to those placed
   // The largest scale that fits, between the last miss and the first fit:
   // the denser the fill (the volume goes as the cube of the scale).
   for (int k = 0; k < kRefinements; ++k) {

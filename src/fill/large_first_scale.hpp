@@ -32,8 +32,8 @@ std::vector<double> front_loaded_radii(const FillPlan& plan, size_t sites, uint6
 /// The largest scale of the plan's radii at which place_large_first
 /// places every front-loaded sphere on `field`: 1, then steps of 0.9 (to
 /// 0.43 at most), then halvings between the last miss and the first fit;
-/// 1 when all fit at once or none is front-loaded; the last tried when
-/// none fits them all.
+/// 1 when all fit at once, none is front-loaded, or no scale tried fits
+/// them all (the other classes are then held to those placed).
 double large_first_scale(const ScalarGrid& field, const FillPlan& plan, size_t sites, uint64_t seed);
 
 }  // namespace pfill
