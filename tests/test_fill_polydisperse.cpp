@@ -152,3 +152,42 @@ TEST_CASE("a rare large class (1:4, 30% of the volume, 5 spheres): every one pla
   CHECK(r.warnings.empty());
   CHECK(std::abs(r.radii_fit->classes[1].achieved_volume - 0.3) <= 0.015);
 }
+
+TEST_CASE("a rare large class that cannot all fit (1:4, half the volume, 12 spheres in a cube): the shares win") {
+  // 1:4 with half the volume large: one large sphere to ~64 small, 12 of
+  // them at -n 750 in a cube of side 2, of radius 0.374, where 8 fit clear
+  // of each other and the wall (main: 8 placed, 43.5% of the volume large,
+  // 672 spheres). The radii shrink until the 12 fit (by 0.949; the count
+  // kept), and the small are held to their share of them: 780 spheres at
+  // 0.560, the volume fractions within a percentage point (to 1e-5 here).
+  const FillResult r = fill(make_cube(1.0, 2), unequal_fill("discrete:1:0.5,4:0.5", 750, FractionBasis::Volume));
+  check_hard_and_inside(r, 0.001);
+  REQUIRE(r.radii_fit);
+  INFO(r.radii_fit->describe());
+  REQUIRE(r.radii_fit->classes.size() == 2);
+  for (const auto& c : r.radii_fit->classes) CHECK(std::abs(c.achieved_volume - 0.5) <= 0.01);
+  const double large = r.radii->max_radius();
+  size_t n_large = 0;
+  for (double x : r.particles.radii) n_large += x > 0.5 * large;
+  INFO("large " << n_large << " of " << r.particles.size() << "; warnings: " << (r.warnings.empty() ? "" : r.warnings.front()));
+  CHECK(n_large == 12);
+  CHECK(r.particles.size() > 700);
+  REQUIRE(r.warnings.size() == 1);
+  CHECK(r.warnings.front().find("held to their shares") != std::string::npos);
+}
+
+TEST_CASE("radii in mesh units whose rare large class cannot all fit: kept, and the others held to those placed") {
+  // The mix above at the count rule's radii for -n 750, given in mesh units
+  // (no count): they are the user's, so they stay; 8 of the 12 large fit,
+  // and the small are held to their share of those 8.
+  const FillResult r = fill(make_cube(1.0, 2), unequal_fill("discrete:0.0934:0.5,0.374:0.5", 0, FractionBasis::Volume));
+  check_hard_and_inside(r, 0.001);
+  REQUIRE(r.radii_fit);
+  INFO(r.radii_fit->describe());
+  CHECK(r.radii->max_radius() == doctest::Approx(0.374));
+  for (const auto& c : r.radii_fit->classes) CHECK(std::abs(c.achieved_volume - 0.5) <= 0.01);
+  REQUIRE(r.warnings.size() == 1);
+  INFO(r.warnings.front());
+  CHECK(r.warnings.front().rfind("only ", 0) == 0);
+  CHECK(r.warnings.front().find("held to their shares") != std::string::npos);
+}

@@ -50,3 +50,37 @@ TEST_CASE("size classes: a rare class loses no sphere below its share, a common 
   for (int i = 0; i < 100; ++i) even.add(1), even.add(2);
   CHECK(even.may_lose(1));  // 99 of 99.5: within one sphere
 }
+
+TEST_CASE("size classes: when the rare large fall short, the others are held to their shares of those placed") {
+  // 1:10 at half the volume each, 4 large expected, 2 placed: 2,000 small.
+  const auto mix = RadiusDistribution::parse("discrete:1:0.5,10:0.5", FractionBasis::Volume);
+  SizeDeficit d(mix);
+  d.front_load(4000, 16);
+  std::mt19937_64 rng(1);
+  REQUIRE(d.front_radii(rng).size() == 4);
+  d.add(10);
+  d.add(10);
+  const std::vector<size_t> caps = d.caps_held_to_front({10, 10});
+  REQUIRE(caps.size() == 2);
+  CHECK(caps[0] == 2000);
+  CHECK(caps[1] == 2);
+  // All 4 placed: no caps, unless the radii were shrunk (always).
+  SizeDeficit full(mix);
+  full.front_load(4000, 16);
+  for (int i = 0; i < 4; ++i) full.add(10);
+  CHECK(full.caps_held_to_front({10, 10, 10, 10}).empty());
+  CHECK(full.caps_held_to_front({10, 10, 10, 10}, true) == std::vector<size_t>{4000, 4});
+
+  d.set_caps(caps);
+  d.end_front_load();
+  std::vector<double> radii(1999, 1.0);
+  radii.push_back(10);
+  radii.push_back(10);
+  d.recount(radii);
+  CHECK(!d.all_capped());
+  CHECK(d.candidates() == std::vector<size_t>{0});  // the large class is full
+  CHECK(d.take_within(5, rng) == 1.0);
+  CHECK(d.all_capped());
+  CHECK(d.candidates().empty());
+  CHECK(d.take_within(5, rng) == 0);  // no hole takes a sphere any more
+}

@@ -23,6 +23,7 @@
 #include "fill/fill_progress.hpp"
 #include "fill/fill_verify.hpp"
 #include "fill/finish.hpp"
+#include "fill/large_first_scale.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/device/device.hpp"
@@ -64,6 +65,7 @@ class FillRun {
     note_device_times();
     FillPasses passes(*engine_, o_, plan_, sites_, room_sites_, reporter_, result_);
     passes.place_large_first(field_);
+    size_caps_ = passes.size_caps();
     passes.pass1();
     note_device_times();
     passes.pass2();
@@ -73,10 +75,22 @@ class FillRun {
     finish(passes.next_id());
     note_device_times();
     verify();
+    if (!size_caps_.empty()) result_.warnings.push_back(held_to_large_note(passes.short_front()));
     return std::move(result_);
   }
 
  private:
+  // The fractions asked won over the count: what the fill did, and what came of it.
+  std::string held_to_large_note(const std::string& short_front) const {
+    std::string what = plan_.size_scale < 1 ? "every radius was scaled by " + short_number(plan_.size_scale) +
+                                                  " for the largest spheres to fit"
+                                            : std::string();
+    if (!short_front.empty()) what += (what.empty() ? "" : ", and even so ") + short_front;
+    return what + ": the other classes were held to their shares of them, " +
+           std::to_string(result_.particles.size()) + " spheres at a packing of " +
+           short_number(result_.metrics.packing_fraction);
+  }
+
   // With a profiling device (PFILL_PROFILE=1): the device's time since the
   // last call goes to the pass just ended (the first call only starts the
   // count, past the field upload and the program builds).
@@ -119,6 +133,20 @@ class FillRun {
     result_.field_seconds = stats.seconds;
     result_.field_bytes = stats.bytes;
     result_.field_spacing = plan_.field.spacing;
+    plan_sites();
+    rescale_for_large_first();
+
+    if (!o_.engine) device_ = std::make_unique<Device>(o_.device, profile_requested());
+    result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
+    if (device_) check_device_memory(*device_, plan_, stats.bytes);
+    params_ = plan_engine_params(plan_, o_);
+    engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
+    if (o_.log) o_.log(engine_->describe());
+    engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
+  }
+
+  // The birth sites on the field (and the room sites of waves).
+  void plan_sites() {
     sites_ = plan_birth_sites(plan_, field_, *boundary_, o_);
     if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site
       const PartSites parts = add_sites_per_part(field_, plan_.radius, sites_);
@@ -133,14 +161,22 @@ class FillRun {
     // (Unequal spheres: the waves' sites alone.)
     if (plan_.waves && o_.room_spacing > 0 && !plan_.sizes)
       room_sites_ = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
+  }
 
-    if (!o_.engine) device_ = std::make_unique<Device>(o_.device, profile_requested());
-    result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
-    if (device_) check_device_memory(*device_, plan_, stats.bytes);
-    params_ = plan_engine_params(plan_, o_);
-    engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
-    if (o_.log) o_.log(engine_->describe());
-    engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
+  // Unequal spheres sized by a count whose rare large ones do not all fit
+  // at the count rule's radii: every radius shrinks until they do (large_first_scale.hpp),
+  // the plan and sites again at that scale, on the field already built
+  // (its spacing a little coarser against the new radii, which the final
+  // exact check makes good; its band and margin reach past the largest).
+  void rescale_for_large_first() {
+    if (!plan_.sizes || o_.count == 0) return;  // radii in mesh units (no count) are the user's: kept
+    const double scale = large_first_scale(field_, plan_, sites_.size(), o_.seed);
+    if (scale == 1) return;
+    const SdfOptions field = plan_.field;
+    plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_, scale);
+    plan_.field = field;
+    result_.radius = plan_.radius;
+    plan_sites();
   }
 
   // ---- finish: overlaps resolved by moving spheres; holes filled (finish.cpp) ----
@@ -179,6 +215,7 @@ class FillRun {
     FinishSettings s;
     s.radius = plan_.radius;
     s.sizes = plan_.sizes;
+    s.size_caps = size_caps_;
     s.max_overlap = o_.max_overlap;
     s.hole_rounds = o_.hole_rounds;
     s.hole_clearance = o_.hole_clearance * 2 * o_.rest_distance;
@@ -205,8 +242,8 @@ class FillRun {
   void verify() {
     reporter_.enter(FillPhase::Verify);
     reporter_.report(particles_.size(), 0, 0, fill_steps_ + relax_steps_, relax_steps_);
-    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, o_, std::move(particles_), next_id_,
-                result_);
+    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, size_caps_, o_, std::move(particles_),
+                next_id_, result_);
     result_.seconds = reporter_.elapsed();
     result_.steps = fill_steps_ + relax_steps_;
     result_.peak_memory = peak_resident_bytes();
@@ -236,6 +273,7 @@ class FillRun {
   DeviceTimes device_times_;  ///< the device's times at the last note_device_times()
   bool device_times_noted_ = false;
   FillResult result_;
+  std::vector<size_t> size_caps_;  ///< each size class's most spheres, where the largest fell short (FillPasses::size_caps)
 };
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include "fill/centre_grid.hpp"
 #include "fill/counter_rng.hpp"
 #include "fill/large_first.hpp"
+#include "fill/large_first_scale.hpp"
 #include "pfill/count_rule.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
@@ -25,13 +26,6 @@ namespace {
 // before. A room site takes a newborn only where no centre lies within this
 // many rest distances, so that newborn overlaps nobody.
 constexpr double kRoomUntil = 0.25, kRoomClearance = 1.0;
-// Unequal spheres: where the mix has inclusions (count_rule.hpp: radii 4
-// times the commonest's and more, rare), a class larger than the commonest
-// that the fill expects at most this many times (other mixes: at most as
-// many times as there are sites) is placed before pass 1
-// (place_large_first): a handful of large spheres finds room only while
-// the mesh is empty.
-constexpr double kPlacedFirst = 16;
 
 std::vector<size_t> take_flagged(ParticleEngine& e) {
   std::vector<size_t> out = e.flagged_particles();
@@ -55,8 +49,7 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       newest_(Engine::kGone) {
   if (plan.sizes) {
     sizes_.emplace(*plan.sizes);
-    const double sites = static_cast<double>(sites_.size());
-    sizes_->front_load(plan.expected, inclusions_of(*plan.sizes).number_share > 0 ? std::max(kPlacedFirst, sites) : sites);
+    sizes_->front_load(plan.expected, front_first_wave(plan, sites_.size()));
   }
 }
 
@@ -68,13 +61,8 @@ void FillPasses::place_large_first(const ScalarGrid& field) {
   std::mt19937_64 rng(CounterRng(o_.seed, 0, 0, 2)());
   const std::vector<double> radii = sizes_->front_radii(rng);
   if (radii.empty()) return;
-  // Clear of the wall by half a smallest radius (past the finish's wall
-  // margin) and of each other by a smallest radius: every placed sphere
-  // starts with no force on it.
-  LargeFirstSettings s;
-  s.wall_gap = 0.5 * plan_.radius;
-  s.pair_gap = plan_.radius;
-  const LargePlacement placed = pfill::place_large_first(field, radii, s);
+  // Clear of the wall and of each other: every placed sphere starts with no force on it.
+  const LargePlacement placed = pfill::place_large_first(field, radii, large_first_settings(plan_.radius));
   std::vector<Particle> ps;
   for (size_t k = 0; k < placed.centres.size(); ++k) {
     Particle p = newborn_at(placed.centres[k], placed.radii[k], sites_.size() + room_sites_.size() + k);
@@ -85,11 +73,16 @@ void FillPasses::place_large_first(const ScalarGrid& field) {
     snapshot_radii_.push_back(p.radius);
   }
   if (!ps.empty()) engine_.add_particles(ps);
+  // Fewer fit than the quota: the other classes are held to their shares
+  // of those placed, so that the fractions asked hold (the total falls).
+  // (Radii shrunk below the count rule's: the other classes would fill the rest.)
+  sizes_->set_caps(sizes_->caps_held_to_front(placed.radii, plan_.size_scale < 1));
   sizes_->end_front_load();
-  if (placed.centres.size() < radii.size())
-    result_.warnings.push_back("only " + std::to_string(placed.centres.size()) + " of the " +
-                               std::to_string(radii.size()) + " largest spheres (radius up to " +
-                               short_number(radii.front()) + ") fit in the mesh: that class ends short of its share");
+  if (placed.centres.size() < radii.size()) {
+    short_front_ = "only " + std::to_string(placed.centres.size()) + " of the " + std::to_string(radii.size()) +
+                   " largest spheres (radius up to " + short_number(radii.front()) + ") fit in the mesh";
+    if (!sizes_->capped()) result_.warnings.push_back(short_front_ + ": that class ends short of its share");
+  }
 }
 
 // ---- pass 1: births until the object is overfull ----
@@ -132,6 +125,11 @@ void FillPasses::pass1() {
                                            " steps " + std::to_string(ke.events()) + " times"
                                      : "the colliding-pair count stayed unchanged and could not be lowered after " +
                                            std::to_string(o_.collisions.max_tries) + " removals");
+      }
+      // Classes held to the placed large spheres' shares, all full: no birth may follow.
+      if (!overfull && sizes_ && sizes_->all_capped()) {
+        overfull = true;
+        stop("blocked", "every size class reached its share of the largest spheres placed");
       }
       // The blocked-sites test always runs: it ends the pass when the
       // report's tests never fire (a prototype found they rarely do).

@@ -15,6 +15,7 @@
 #pragma once
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "fill/fill_plan.hpp"
@@ -44,6 +45,11 @@ class FillPasses {
 
   /// The id the next particle gets (ids count births in order).
   uint64_t next_id() const { return next_id_; }
+  /// Unequal spheres whose front-loaded class fell short: each class's
+  /// most spheres (SizeDeficit::set_caps), for the finish; else empty.
+  std::vector<size_t> size_caps() const { return sizes_ && sizes_->capped() ? sizes_->caps() : std::vector<size_t>{}; }
+  /// "only N of the M largest spheres ... fit", when they fell short; else empty.
+  const std::string& short_front() const { return short_front_; }
 
  private:
   std::vector<int> run_batch(bool births);
@@ -90,6 +96,7 @@ class FillPasses {
   uint64_t next_sort_ = 0;         ///< step of the next renumbering along the cells
   uint64_t next_id_ = 1;           ///< ids in birth order; the engines carry them (Particle::id)
   uint64_t last_frame_ = 0;
+  std::string short_front_;  ///< place_large_first's shortfall, said in the final warning
 };
 
 }  // namespace pfill

@@ -50,7 +50,7 @@ double particle_radius(const FillOptions& o, double volume, double area) {
   return o.radius > 0 ? o.radius : fill_radius_for_count(volume, area, o.count, o.max_overlap, o.rest_distance);
 }
 
-FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o) {
+FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o, double size_scale) {
   FillPlan plan;
   plan.volume = d.volume();
   plan.area = d.surface_area;
@@ -67,6 +67,13 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
     throw Error("a radius of " + short_number(plan.radius) + " would give about " + short_number(plan.expected) +
                 " particles, more than pfill handles (" + short_number(kMaxParticles) +
                 "); choose a larger radius or a smaller count");
+  if (plan.sizes && size_scale != 1) {  // (the count stays the count rule's at the scale asked)
+    plan.sizes = plan.sizes->scaled(size_scale);
+    plan.radius = plan.sizes->min_radius();
+    plan.mean_radius = plan.sizes->mean();
+    plan.max_radius = plan.sizes->max_radius();
+    plan.size_scale = size_scale;
+  }
 
   // The field: at a share of r, coarsened to stay within max_field_samples.
   SdfOptions& so = plan.field;

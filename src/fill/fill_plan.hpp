@@ -27,6 +27,9 @@ struct FillPlan {
   double mean_radius = 0;     ///< by number; sets the field's spacing and the sites' (equal: radius)
   double max_radius = 0;      ///< the largest sphere (equal: radius)
   double expected = 0;        ///< particles when full, by the count rule
+  /// Unequal spheres: every radius shrunk by this after the count rule, so
+  /// that the rare large ones fit (large_first_scale.hpp); 1: as the rule says.
+  double size_scale = 1;
   SdfOptions field{0};        ///< the distance field's spacing, margin and band
   bool waves = false;         ///< births in waves over spread sites (else the report's sites)
   int birth_every = 3;        ///< steps between births at a site (a wave's steps with waves)
@@ -52,8 +55,10 @@ std::optional<RadiusDistribution> fill_sizes(const FillOptions& o, double volume
 
 /// Radius, expected count, field and schedule for `o` on a mesh of box
 /// `bounds` and diagnostics `d` (`o` checked: check_fill_options); throws
-/// when they cannot work.
-FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o);
+/// when they cannot work. Unequal spheres: `size_scale` shrinks every
+/// radius after the count rule, which the expected count keeps
+/// (large_first_scale.hpp: the large spheres' quota then fits).
+FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptions& o, double size_scale = 1);
 
 /// The birth sites of the plan's schedule on `field`: spread over the inside
 /// for waves, else the report's deepest far-apart points; FillOptions::

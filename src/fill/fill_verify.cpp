@@ -57,11 +57,14 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
 }  // namespace
 
 void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius,
-                 const std::optional<RadiusDistribution>& sizes, const FillOptions& o, ParticleSet particles,
-                 uint64_t& next_id, FillResult& result) {
+                 const std::optional<RadiusDistribution>& sizes, const std::vector<size_t>& size_caps,
+                 const FillOptions& o, ParticleSet particles, uint64_t& next_id, FillResult& result) {
   result.containment = repair_containment(boundary, particles, o.containment_tolerance, o.max_overlap);
   std::optional<SizeDeficit> deficit;
-  if (sizes) deficit.emplace(*sizes);
+  if (sizes) {
+    deficit.emplace(*sizes);
+    deficit->set_caps(size_caps);
+  }
   const Hole h = fill_exact_holes(boundary, radius, deficit, o, particles, next_id, result);
   MetricsOptions mo;
   mo.containment_tolerance = o.containment_tolerance;

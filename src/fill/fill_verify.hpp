@@ -17,9 +17,10 @@ namespace pfill {
 /// spheres it inserts.
 /// Unequal spheres (`sizes`, mesh units; `radius` its smallest): holes take
 /// a sphere of a class short of its share, and the result says how the
-/// radii follow the distribution (FillResult::radii_fit).
+/// radii follow the distribution (FillResult::radii_fit); `size_caps`:
+/// each class's most spheres (SizeDeficit::set_caps; empty: none).
 void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius,
-                 const std::optional<RadiusDistribution>& sizes, const FillOptions& o, ParticleSet particles,
-                 uint64_t& next_id, FillResult& result);
+                 const std::optional<RadiusDistribution>& sizes, const std::vector<size_t>& size_caps,
+                 const FillOptions& o, ParticleSet particles, uint64_t& next_id, FillResult& result);
 
 }  // namespace pfill

@@ -92,7 +92,10 @@ class Finisher {
   }
 
   ParticleSet run(std::vector<Particle> ps) {
-    if (s_.sizes) sizes_.emplace(*s_.sizes);
+    if (s_.sizes) {
+      sizes_.emplace(*s_.sizes);
+      sizes_->set_caps(s_.size_caps);
+    }
     upload(std::move(ps));
     int holes_done = 0;
     bool compressing = s_.compress_clearance > 0;
@@ -122,6 +125,7 @@ class Finisher {
         continue;
       }
       if ((!compressing && holes_done >= s_.hole_rounds) || round + 1 >= s_.max_rounds) break;
+      if (all_held(now)) break;
       const double clearance = compressing ? s_.compress_clearance : s_.hole_clearance;
       std::vector<double> gaps;
       const std::vector<Vec3> holes =
@@ -137,6 +141,8 @@ class Finisher {
       if (!compressing) ++holes_done;
       last_inserted = insert_into_holes(now, holes, gaps, clearance);
       deleted_since_insert = 0;
+      // Every class held at its cap: no hole takes a sphere, and another round would only relax.
+      if (last_inserted == 0 && sizes_ && sizes_->capped()) break;
     }
     add_fits(now);
     stats_.next_id = next_id_;
@@ -189,6 +195,7 @@ class Finisher {
   /// are, into `now`: nothing to relax.
   void add_fits(ParticleSet& now) {
     now = current();
+    if (all_held(now)) return;
     std::vector<double> gaps;
     const std::vector<Vec3> fits =
         s_.hole_rounds > 0 ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size(),
@@ -213,6 +220,15 @@ class Finisher {
       now.velocities.push_back({});
       ++stats_.inserted;
     }
+  }
+
+  /// Unequal spheres held to caps (FinishSettings::size_caps), every class
+  /// at its cap: no hole may take a sphere, and a search of a loose
+  /// packing's many holes would take long for nothing.
+  bool all_held(const ParticleSet& now) {
+    if (!sizes_ || !sizes_->capped()) return false;
+    sizes_->recount(now.radii);
+    return sizes_->all_capped();
   }
 
   /// The spheres now, at their true radii.

@@ -25,6 +25,9 @@ struct FinishSettings {
   /// kept by measuring it at the smallest (the engine's spheres are all
   /// smaller by the same length). Empty: all of `radius`.
   std::optional<RadiusDistribution> sizes;
+  /// Unequal spheres: each class's most spheres (SizeDeficit::set_caps),
+  /// where the largest fell short of their quota; empty: none.
+  std::vector<size_t> size_caps;
   double max_overlap = 0.001;   ///< bound on every pair's overlap, fraction of r
   double inflation = std::nan("");  ///< contact distance while relaxing: 2r (1 + inflation); NaN: automatic (finish_inflation)
   double time_step = 0.03;      ///< damped relaxation's step, in tau of the inflated potential

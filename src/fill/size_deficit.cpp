@@ -40,6 +40,38 @@ std::vector<double> SizeDeficit::front_radii(std::mt19937_64& rng) const {
   return out;
 }
 
+std::vector<size_t> SizeDeficit::caps_held_to_front(const std::vector<double>& placed, bool always) const {
+  // The whole fill the placed front classes stand for: the least of each
+  // one's placed count over its number share (or placed volume over its
+  // volume share, in spheres of the mean volume).
+  const bool by_volume = sizes_.basis() == FractionBasis::Volume;
+  std::vector<double> cubes(classes_.size(), 0);
+  for (double r : placed) cubes[class_of(r)] += r * r * r;
+  double total = -1;
+  bool short_of_quota = always;
+  for (size_t k = 0; k < first_quota_.size(); ++k) {
+    if (first_quota_[k] == 0) continue;
+    short_of_quota = short_of_quota || count_[k] < first_quota_[k];
+    const double stands = by_volume ? cubes[k] / (classes_[k].volume_share * sizes_.mean_cube())
+                                    : static_cast<double>(count_[k]) / classes_[k].number_share;
+    total = total < 0 ? stands : std::min(total, stands);
+  }
+  if (!short_of_quota || !(total > 0)) return {};
+  std::vector<size_t> caps(classes_.size());
+  for (size_t k = 0; k < classes_.size(); ++k)
+    caps[k] = k < first_quota_.size() && first_quota_[k] > 0
+                  ? count_[k]  // no more of a front class: none found room
+                  : static_cast<size_t>(std::llround(classes_[k].number_share * total));
+  return caps;
+}
+
+bool SizeDeficit::all_capped() const {
+  if (cap_.empty()) return false;
+  for (size_t k = 0; k < classes_.size(); ++k)
+    if (count_[k] < cap_[k]) return false;
+  return true;
+}
+
 void SizeDeficit::recount(const std::vector<double>& radii) {
   std::fill(count_.begin(), count_.end(), 0);
   for (double r : radii) ++count_[class_of(r)];
@@ -57,6 +89,7 @@ std::vector<size_t> SizeDeficit::candidates(double surplus_share) const {
   std::vector<std::pair<double, size_t>> by_deficit;
   for (size_t k = 0; k < classes_.size(); ++k) {
     const double deficit = classes_[k].number_share * next - static_cast<double>(count_[k]);
+    if (!cap_.empty() && count_[k] >= cap_[k]) continue;  // held to its share of the front classes
     if (deficit > -surplus) by_deficit.push_back({deficit, k});
   }
   std::sort(by_deficit.begin(), by_deficit.end(), [](const auto& a, const auto& b) {

@@ -32,6 +32,20 @@ class SizeDeficit {
   /// The quota is done with: what was placed stands, and the deficit rules
   /// take it from there (a class that got fewer is not tried first again).
   void end_front_load() { first_quota_.clear(); }
+  /// When a front-loaded class got fewer than its quota, or `always` (the
+  /// radii were shrunk below the count rule's) (`placed`: the radii of
+  /// those placed): the count each class may reach so that every share (by
+  /// number, or by volume for a distribution given by volume) stays the one
+  /// asked relative to what was placed; empty when nothing fell short or
+  /// none was placed. Call before end_front_load.
+  std::vector<size_t> caps_held_to_front(const std::vector<double>& placed, bool always = false) const;
+  /// Holds each class k to at most caps[k] spheres (empty: no caps): the
+  /// classes at their cap are no candidates.
+  void set_caps(std::vector<size_t> caps) { cap_ = std::move(caps); }
+  bool capped() const { return !cap_.empty(); }
+  const std::vector<size_t>& caps() const { return cap_; }
+  /// Whether every class is at its cap (no sphere may follow).
+  bool all_capped() const;
 
   /// Counts the spheres present (their radii) afresh.
   void recount(const std::vector<double>& radii);
@@ -61,6 +75,7 @@ class SizeDeficit {
   std::vector<SizeClass> classes_;
   std::vector<size_t> count_;
   std::vector<size_t> first_quota_;  ///< per class: spheres born ahead of the others (front_load)
+  std::vector<size_t> cap_;          ///< per class: most spheres (set_caps); empty: none
   size_t total_ = 0;
 };
 
