@@ -64,6 +64,9 @@ class SizeDeficit {
   /// A sphere for a hole with `room` (the largest radius it takes): of the
   /// first of candidates() whose smallest radius fits, drawn inside the
   /// class and capped at the room; counted in (add). 0 when none fits.
+  /// A continuous law (16 bins of equal number share) first takes the
+  /// largest bin that fits and keeps the bins' Kolmogorov-Smirnov distance
+  /// within a tolerance (take_tolerated), then the deficit rule.
   double take_within(double room, std::mt19937_64& rng);
   /// A radius of class k, drawn by the law inside the class.
   double draw(size_t k, std::mt19937_64& rng) const;
@@ -71,6 +74,11 @@ class SizeDeficit {
   size_t classes() const { return classes_.size(); }
 
  private:
+  /// The bins' cumulative count against the law's, at its largest gap, with
+  /// one more sphere in bin `extra` (classes() for none).
+  double binned_ks_with(size_t extra) const;
+  double take_tolerated(double room, std::mt19937_64& rng);
+
   RadiusDistribution sizes_;
   std::vector<SizeClass> classes_;
   std::vector<size_t> count_;
