@@ -263,6 +263,15 @@ TEST_CASE("engine settings: the automatic choices are made for a device's kind, 
   const DeviceChoices c = resolve_for_device(cpu, repulsive);
   CHECK(!c.gpu_form);
   CHECK(c.skin_sigma == kCpuFormSkinSigma);
+  EngineParams mix = repulsive;  // radii 1:4: the cpu form's wider skin, the gpu form's as for equal spheres
+  mix.max_radius = 4 * mix.radius;
+  CHECK(resolve_for_device(cpu, mix).skin_sigma == kCpuFormMixSkinSigma);
+  CHECK(resolve_for_device(gpu, mix).skin_sigma == kGpuFormSkinSigma);
+  mix.max_radius = 1.5 * mix.radius;
+  CHECK(resolve_for_device(cpu, mix).skin_sigma == kCpuFormSkinSigma);
+  mix.max_radius = 4 * mix.radius;
+  mix.cutoff_sigma = 2.5;  // long rows with a cutoff: the equal spheres' skin
+  CHECK(resolve_for_device(cpu, mix).skin_sigma == kCpuFormSkinSigma);
   CHECK(c.newton);  // at most 4 cores
   CHECK(c.pair_queue);  // purely repulsive
   CHECK(!c.inner_lists);

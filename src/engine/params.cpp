@@ -147,12 +147,18 @@ EngineConstants derive_constants(const EngineParams& p) {
 
 double particle_mass(const EngineParams& p, double r) { return std::pow(r / p.radius, 3); }
 
+double automatic_skin_sigma(const EngineParams& p, bool gpu_form) {
+  if (gpu_form) return kGpuFormSkinSigma;
+  const bool repulsive = p.cutoff_sigma <= 0;  // (with a cutoff the rows are long: a wider skin costs more than the rebuilds it saves)
+  return repulsive && p.max_radius >= kMixSkinRatio * p.radius ? kCpuFormMixSkinSigma : kCpuFormSkinSigma;
+}
+
 DeviceChoices resolve_for_device(const DeviceInfo& device, const EngineParams& p) {
   DeviceChoices c;
   c.form_automatic = p.step_form == StepForm::automatic;
   c.gpu_form = c.form_automatic ? device.type != "CPU" : p.step_form == StepForm::gpu;
   c.skin_automatic = p.skin_sigma == 0;
-  c.skin_sigma = c.skin_automatic ? (c.gpu_form ? kGpuFormSkinSigma : kCpuFormSkinSigma) : p.skin_sigma;
+  c.skin_sigma = c.skin_automatic ? automatic_skin_sigma(p, c.gpu_form) : p.skin_sigma;
   // The `cpu` form's variants: Newton's third law on few cores (each core's
   // force buffer is read for every particle), the pair queue for purely
   // repulsive rows (short, few entries in reach), inner lists with a

@@ -230,6 +230,20 @@ constexpr int kWallIterations = 2;
 /// The automatic skins (EngineParams::skin_sigma = 0) of the two step forms.
 constexpr double kCpuFormSkinSigma = 0.5;
 constexpr double kGpuFormSkinSigma = 0.3;
+/// The `cpu` form's automatic skin for purely repulsive unequal spheres
+/// (the fill's default) whose largest radius is at least kMixSkinRatio
+/// times the reference: the small, light spheres
+/// drift further per step, so lists at 0.5 were rebuilt three times as
+/// often (1:4 at 10,000: 3% of steps, at 3.2 ms each), while the skin's
+/// share of the large pairs' reach falls with the ratio (bench_step
+/// --radii-ratio 4 --cutoff repulsive: 1.34x equal spheres' cost per
+/// particle-step at 0.5, 1.18x at 0.9). With a cutoff (--cutoff lj) the
+/// rows are long and 0.9 cost more than it saved (1:2: 1.30x -> 1.50x).
+constexpr double kCpuFormMixSkinSigma = 0.9;
+constexpr double kMixSkinRatio = 2;
+/// The automatic skin of a step form for `p`'s spheres (0.5 / 0.3, or
+/// kCpuFormMixSkinSigma for the `cpu` form's wide mixes).
+double automatic_skin_sigma(const EngineParams& p, bool gpu_form);
 
 /// Checks `p` (throws pfill::Error naming the bad setting) and derives the constants.
 EngineConstants derive_constants(const EngineParams& p);
