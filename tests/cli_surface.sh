@@ -24,7 +24,10 @@ grep -q "coverage        every surface point within" s.txt || fail "surface: no 
 head -1 f.csv | grep -q ",kind,nx,ny,nz,area$" || fail "fill --shell CSV header: $(head -1 f.csv)"
 inner=$(awk -F, 'NR > 1 && $6 == 0' f.csv | wc -l)
 boundary=$(awk -F, 'NR > 1 && $6 == 1' f.csv | wc -l)
-[ "$inner" -gt 100 ] && [ "$boundary" -gt 100 ] || fail "fill --shell: $inner inner, $boundary boundary"
+# (-n 200 with the shell expects ~109 inner; a fill this small ends within
+# ~15% of its count, and where it ends depends on the CPU's float order:
+# 98 on an AMD EPYC, over 100 on a Xeon.)
+[ "$inner" -gt 85 ] && [ "$boundary" -gt 100 ] || fail "fill --shell: $inner inner, $boundary boundary"
 grep -q '"inner_removed"' f.json || fail "fill --shell: no shell section in the report"
 # check --shell reads the kinds: the same file gives the fill's figures, to the last digit.
 "$pfill" check f.csv cube --shell --json > fc.json || fail "check --shell of fill --shell's CSV"

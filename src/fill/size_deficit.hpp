@@ -59,7 +59,10 @@ class SizeDeficit {
   /// Whether a sphere of class k may go without leaving its class short
   /// of its share by more than the surplus a class may run ahead by (at
   /// least one sphere; a rare class, expected fewer than 16 times and at
-  /// most 2% by number, loses none below its share).
+  /// most 2% by number, loses none below its share). A continuous law's
+  /// bin may go further below while the bins' KS distance stays within the
+  /// tolerance of take_tolerated: the finish then deletes the spheres
+  /// pressed hardest, whatever their bin.
   bool may_lose(size_t k, double surplus_share = 0) const;
   /// A sphere for a hole with `room` (the largest radius it takes): of the
   /// first of candidates() whose smallest radius fits, drawn inside the
@@ -75,8 +78,8 @@ class SizeDeficit {
 
  private:
   /// The bins' cumulative count against the law's, at its largest gap, with
-  /// one more sphere in bin `extra` (classes() for none).
-  double binned_ks_with(size_t extra) const;
+  /// `change` (+1 or -1) spheres in bin k.
+  double binned_ks_with(size_t k, int change) const;
   double take_tolerated(double room, std::mt19937_64& rng);
 
   RadiusDistribution sizes_;
