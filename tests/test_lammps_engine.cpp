@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "lammps/birth_tally.hpp"
 #include "pfill/birth_sites.hpp"
 #include "pfill/engine/reference.hpp"
 #include "pfill/error.hpp"
@@ -344,4 +345,103 @@ TEST_CASE("lammps engine: the first waves' newborns as on one process") {
     CHECK(worst < 1e-6);
   }
   CHECK(ref[2].size() > ref[0].size());
+}
+
+// Issue 31: births split over the ranks. Each rank hands LAMMPS only the
+// newborns it decided (ParticleEngine::add_decided_particles), yet every
+// rank books every newborn's index and id in the batch's order; a newborn
+// a rank gives from outside its sub-domain (decided on an older one) is
+// sent on and still created once.
+TEST_CASE("lammps engine: births split over the ranks, booked on every rank") {
+  if (!lammps_available()) return;
+  const EngineParams p = small_params();
+  const ScalarGrid field = ball_field(0.5, 0.02);
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
+  lmp->share_field(field);
+  const std::vector<Particle> start = lattice(0.5, 0.11, 5);
+  lmp->add_particles(start);
+  lmp->run_steps(5);
+  const BirthView view = lmp->birth_view(0.08, false);
+  // Births between the lattice's points, ids of their own.
+  std::vector<Particle> births = lattice(0.44, 0.11, 6);
+  std::vector<uint64_t> ids;
+  for (Particle& b : births) b.position += Vec3{0.055, 0.055, 0.055}, b.id += 5000, ids.push_back(b.id);
+  const MpiWorld world = lammps_mpi_start();
+  const lammps_engine::BirthTally before = lammps_engine::birth_tally();
+  std::vector<Particle> mine;
+  bool all_on_rank_0 = false;
+  SUBCASE("each rank gives the births at its own sites") {
+    for (const Particle& b : births)
+      if (view.decides(b.position)) mine.push_back(b);
+  }
+  SUBCASE("rank 0 gives them all: the others' sent on") {
+    all_on_rank_0 = true;
+    if (world.rank == 0) mine = births;
+  }
+  SUBCASE("all in rank 0's sub-domain: the others give none") {
+    std::vector<Particle> kept;
+    for (const Particle& b : births)
+      if (view.complete() || owning_region(view.regions, b.position) == 0) kept.push_back(b);
+    births = kept, ids.clear();
+    for (const Particle& b : births) ids.push_back(b.id);
+    for (const Particle& b : births)
+      if (view.decides(b.position)) mine.push_back(b);
+    if (world.rank > 0) CHECK(mine.empty());
+  }
+  REQUIRE_FALSE(births.empty());
+  const size_t first = lmp->add_decided_particles(mine, ids);
+  const lammps_engine::BirthTally after = lammps_engine::birth_tally();
+  CHECK(first == start.size());
+  CHECK(after.newborns - before.newborns == births.size());
+  const uint64_t sent = after.outside - before.outside;
+  if (!all_on_rank_0 || world.size == 1) CHECK(sent == 0);
+  if (all_on_rank_0 && world.size > 1 && world.rank == 0) CHECK(sent > 0);
+  const std::vector<Particle> out = lmp->read_particles();
+  REQUIRE(out.size() == start.size() + births.size());
+  for (size_t k = 0; k < births.size(); ++k) {
+    CHECK(out[first + k].id == births[k].id);
+    CHECK(length(out[first + k].position - births[k].position) == 0.0);
+    CHECK(out[first + k].radius == births[k].radius);
+  }
+}
+
+// Issue 31: in a fill's waves each rank creates only its own sub-domain's
+// newborns: the counts the ranks passed to lammps_create_atoms sum to the
+// waves' births (each newborn handed over by exactly one rank), and none
+// a rank passed lay outside its sub-domain then.
+TEST_CASE("lammps engine: a fill's waves, each newborn created by the rank whose sub-domain holds it") {
+  if (!lammps_available()) return;
+  lammps_engine::birth_tally() = {};
+  FillOptions o;
+  o.count = 2000;
+  o.sites = 0;  // waves
+  o.seed = 7;
+  o.colour = ColourOptions{ColourMode::None, {}};
+  o.engine = lammps_engine_factory();
+  int batches = 0;
+  o.cancelled = [&batches] { return ++batches > 12; };
+  CHECK_THROWS_AS(fill(make_icosphere(1.0, 3), o), Cancelled);
+  const lammps_engine::BirthTally t = lammps_engine::birth_tally();
+  INFO(t.batches << " waves, " << t.newborns << " newborns, " << t.passed << " passed here, " << t.outside
+                 << " outside");
+  CHECK(t.batches >= 5);
+  CHECK(t.newborns > 100);
+  CHECK(t.outside == 0);
+  std::vector<int> passed = {static_cast<int>(t.passed)};
+  make_lammps_engine(small_params())->sum_over_processes(passed);
+  CHECK(passed[0] == static_cast<int>(t.newborns));
+  if (lammps_mpi_start().size > 1) {
+    CHECK(t.passed > 0);
+    CHECK(t.passed < t.newborns);
+  }
+}
+
+TEST_CASE("an engine of one process takes a birth batch whole") {
+  ReferenceEngine ref(small_params());
+  Particle b;
+  b.radius = 0.05;
+  b.id = 9;
+  CHECK(ref.add_decided_particles({b}, {9}) == 0);
+  CHECK(ref.size() == 1);
+  CHECK_THROWS_AS(ref.add_decided_particles({}, {10}), Error);
 }

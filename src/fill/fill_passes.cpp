@@ -109,6 +109,9 @@ void FillPasses::pass1() {
     result_.stop_signal = signal;
     result_.stop_reason = std::move(reason);
   };
+  // The first wave's view too (no particle yet): else it would be the
+  // default, complete one, and every process would build that whole wave.
+  if (!sizes_) take_birth_view();
   bool overfull = false;
   while (!overfull) {
     const std::vector<int> born = run_batch(!(ke.waiting() || collisions.waiting()));
@@ -272,60 +275,90 @@ int FillPasses::birth_at_sites() {
 /// several rest distances apart, so newborns of one wave never crowd each
 /// other. Returns how many were born.
 int FillPasses::birth_wave() {
+  if (!sizes_) return add_wave(wave_sites());
   const bool capped = reporter_.phase() == FillPhase::Pass2;
   std::vector<Particle> newborns;
-  if (sizes_) {
-    // Unequal spheres: room for each newborn's own radius, and the wave's
-    // large newborns may reach each other across the sites' spacing.
-    const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
-    for (size_t k = 0; k < sites_.size(); ++k) {
-      const BirthSite& site = sites_[k];
-      if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
-      const double radius = newborn_radius([&](double r) {
-        if (!room.has_room(site.position, r)) return false;
-        for (const Particle& b : newborns)
-          if (length(b.position - site.position) < plan_.birth_clearance * (r + b.radius)) return false;
-        return true;
-      }, k);
-      if (radius > 0) newborns.push_back(newborn_at(site.position, radius, k));
-    }
-  } else {
-    // Each site's room tested where it is decided, the verdicts shared
-    // (site_verdicts.hpp); then the same newborns on every process.
-    const bool rooms = !capped && room_births_due();
-    std::vector<int> verdicts(sites_.size() + (rooms ? room_sites_.size() : 0), 0);
-    const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
-    mark_sites_with_room(view_, sites_, [&](const Vec3& p) { return room.has_room(p); }, verdicts);
-    if (rooms) {
-      const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
-      mark_sites_with_room(view_, room_sites_, [&](const Vec3& p) { return clear.has_room(p); }, verdicts, sites_.size());
-    }
-    share_verdicts(engine_, view_, verdicts);
-    for (size_t k = 0; k < sites_.size(); ++k) {
-      if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
-      if (verdicts[k]) newborns.push_back(newborn_at(sites_[k].position, plan_.radius, k));
-    }
-    if (rooms) room_births(newborns, verdicts);
+  // Unequal spheres: room for each newborn's own radius, and the wave's
+  // large newborns may reach each other across the sites' spacing.
+  const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
+  for (size_t k = 0; k < sites_.size(); ++k) {
+    const BirthSite& site = sites_[k];
+    if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
+    const double radius = newborn_radius([&](double r) {
+      if (!room.has_room(site.position, r)) return false;
+      for (const Particle& b : newborns)
+        if (length(b.position - site.position) < plan_.birth_clearance * (r + b.radius)) return false;
+      return true;
+    }, k);
+    if (radius > 0) newborns.push_back(newborn_at(site.position, radius, k));
   }
   if (!newborns.empty()) newest_ = engine_.add_particles(newborns) + newborns.size() - 1;
   return static_cast<int>(newborns.size());
 }
 
+/// Equal spheres: the wave's sites (global indices, room sites after the
+/// sites) in the order of the newborns' ids. Each site's room tested where
+/// it is decided, the verdicts shared (site_verdicts.hpp); then the same
+/// choice on every process.
+std::vector<size_t> FillPasses::wave_sites() {
+  const bool capped = reporter_.phase() == FillPhase::Pass2;
+  const bool rooms = !capped && room_births_due();
+  std::vector<int> verdicts(sites_.size() + (rooms ? room_sites_.size() : 0), 0);
+  const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
+  mark_sites_with_room(view_, sites_, [&](const Vec3& p) { return room.has_room(p); }, verdicts);
+  if (rooms) {
+    const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
+    mark_sites_with_room(view_, room_sites_, [&](const Vec3& p) { return clear.has_room(p); }, verdicts, sites_.size());
+  }
+  share_verdicts(engine_, view_, verdicts);
+  std::vector<size_t> chosen;
+  for (size_t k = 0; k < sites_.size(); ++k) {
+    if (capped && engine_.size() + chosen.size() >= result_.max_parts) break;
+    if (verdicts[k]) chosen.push_back(k);
+  }
+  if (rooms) room_births(chosen, verdicts);
+  return chosen;
+}
+
+/// The wave's newborns at `chosen` (wave_sites): ids in that order on every
+/// process, but each process builds and hands over only those at the sites
+/// it decides (ParticleEngine::add_decided_particles), so that on LAMMPS
+/// each rank creates only its own sub-domain's newborns. A newborn's id and
+/// draws depend on its place in the wave and its site, not on the ranks.
+int FillPasses::add_wave(const std::vector<size_t>& chosen) {
+  if (chosen.empty()) return 0;
+  std::vector<uint64_t> ids(chosen.size());
+  std::vector<Particle> mine;
+  for (size_t j = 0; j < chosen.size(); ++j) {
+    ids[j] = next_id_ + j;
+    const Vec3& at = site_position(chosen[j]);
+    if (view_.decides(at)) mine.push_back(newborn(at, plan_.radius, chosen[j], ids[j]));
+  }
+  next_id_ += chosen.size();
+  newest_ = engine_.add_decided_particles(mine, ids) + chosen.size() - 1;
+  return static_cast<int>(chosen.size());
+}
+
+/// The site at global index `site`: room sites after the sites.
+const Vec3& FillPasses::site_position(size_t site) const {
+  return site < sites_.size() ? sites_[site].position : room_sites_[site - sites_.size()].position;
+}
+
 /// While the fill is sparse (below kRoomUntil of the expected count): a
 /// newborn at each room site where it overlaps no sphere of the snapshot
 /// (`verdicts` from sites_.size() on, shared over the processes) and none
-/// of this wave's newborns (the same on every process, in the room sites' order).
-void FillPasses::room_births(std::vector<Particle>& newborns, const std::vector<int>& verdicts) {
+/// of this wave's newborns (`chosen`; the same on every process, in the
+/// room sites' order).
+void FillPasses::room_births(std::vector<size_t>& chosen, const std::vector<int>& verdicts) {
   const double clearance = kRoomClearance * plan_.rest_distance(o_);
   CentreGrid wave(clearance);
-  for (size_t k = 0; k < newborns.size(); ++k) wave.insert(newborns[k].position, static_cast<uint32_t>(k));
+  for (size_t k = 0; k < chosen.size(); ++k) wave.insert(site_position(chosen[k]), static_cast<uint32_t>(k));
   for (size_t k = 0; k < room_sites_.size(); ++k) {
-    const BirthSite& site = room_sites_[k];
+    const Vec3& at = room_sites_[k].position;
     if (!verdicts[sites_.size() + k]) continue;
-    if (wave.any_near(site.position, [&](uint32_t j) { return length(newborns[j].position - site.position) < clearance; }))
-      continue;
-    wave.insert(site.position, static_cast<uint32_t>(newborns.size()));
-    newborns.push_back(newborn_at(site.position, plan_.radius, sites_.size() + k));
+    if (wave.any_near(at, [&](uint32_t j) { return length(site_position(chosen[j]) - at) < clearance; })) continue;
+    wave.insert(at, static_cast<uint32_t>(chosen.size()));
+    chosen.push_back(sites_.size() + k);
   }
 }
 
@@ -384,11 +417,16 @@ double FillPasses::newborn_radius(const HasRoom& has_room, size_t site) {
 /// The newborn at global site `site` (room sites after the sites): its
 /// speed and direction from the stream of (seed, this step, site).
 Particle FillPasses::newborn_at(const Vec3& position, double radius, size_t site) {
+  return newborn(position, radius, site, next_id_++);
+}
+
+/// The newborn at global site `site` with id `id`.
+Particle FillPasses::newborn(const Vec3& position, double radius, size_t site, uint64_t id) const {
   CounterRng draws(o_.seed, engine_.steps_done(), site);
   Particle p;
   p.position = position;
   p.radius = radius;
-  p.id = next_id_++;
+  p.id = id;
   const double speed = o_.birth_speed[0] + (o_.birth_speed[1] - o_.birth_speed[0]) * draws.uniform();
   p.velocity = draws.direction() * (top_speed_ * speed);
   return p;

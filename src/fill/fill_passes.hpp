@@ -11,7 +11,9 @@
 // outside are removed then. Each newborn's draws come from a counter-based
 // stream keyed by (seed, step, site) (counter_rng.hpp), and each site's room
 // test runs on the process that decides it (site_verdicts.hpp): the same
-// newborns on any engine and any MPI rank count.
+// newborns on any engine and any MPI rank count. A wave of equal spheres is
+// chosen alike on every process (sites and ids), but each process builds
+// and hands over only the newborns at the sites it decides.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -59,8 +61,12 @@ class FillPasses {
   void take_birth_view();
   double birth_reach() const;
   bool room_births_due() const;
-  void room_births(std::vector<Particle>& newborns, const std::vector<int>& verdicts);
+  std::vector<size_t> wave_sites();
+  int add_wave(const std::vector<size_t>& chosen);
+  const Vec3& site_position(size_t site) const;
+  void room_births(std::vector<size_t>& chosen, const std::vector<int>& verdicts);
   Particle newborn_at(const Vec3& position, double radius, size_t site);
+  Particle newborn(const Vec3& position, double radius, size_t site, uint64_t id) const;
   bool newborns_clear(const Vec3& site, double radius, double clearance) const;
   template <class HasRoom>
   double newborn_radius(const HasRoom& has_room, size_t site);

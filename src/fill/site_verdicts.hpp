@@ -1,8 +1,9 @@
 // Which birth sites have room, decided where the room test can see it
 // (issue 31): each process tests only the sites its BirthView decides
 // (one process: all of them), then the verdicts are summed over the
-// processes, so every process holds every site's verdict and builds the
-// same newborns, in the sites' order, with the same ids. What depends on
+// processes, so every process holds every site's verdict and chooses the
+// same newborns, in the sites' order, with the same ids (a wave of equal
+// spheres: each process builds only those at its own sites). What depends on
 // other newborns (the pass-2 cap, room sites near this wave's newborns,
 // newborns in flight) is then applied on every process alike.
 #pragma once

@@ -11,9 +11,10 @@
 //
 // SPMD: every rank makes the same calls with the same arguments (the fill's
 // host loop runs on every rank), so the engine's bookkeeping of indices and
-// ids is the same everywhere; births go to every rank and each keeps those
-// in its sub-domain (lammps_create_atoms); reads and records are reductions.
-// The births' room test sees only this rank's atoms and a halo (birth_view).
+// ids is the same everywhere; a wave's births are booked on every rank but
+// each rank creates only those it decided, in its sub-domain
+// (add_decided_particles); reads and records are reductions. The births'
+// room test sees only this rank's atoms and a halo (birth_view).
 #ifdef PFILL_WITH_LAMMPS
 #include <algorithm>
 #include <cmath>
@@ -28,7 +29,9 @@
 #include <vector>
 
 #include "lammps/birth_halo.hpp"
+#include "lammps/birth_tally.hpp"
 #include "lammps/lammps_session.hpp"
+#include "lammps/new_atoms.hpp"
 #include "lammps/particle_book.hpp"
 #include "lammps/step_callback.hpp"
 #include "pfill/error.hpp"
@@ -93,47 +96,56 @@ class LammpsEngine final : public ParticleEngine {
     flush();
     const size_t first = book_.size();
     if (ps.empty()) return first;
-    // Refused here, on every rank alike, before LAMMPS sees them (its box
-    // from the particles, or create_atoms, would stop the program).
-    for (const Particle& p : ps) {
-      const Vec3 &x = p.position, &u = p.velocity;
-      if (!std::isfinite(x.x) || !std::isfinite(x.y) || !std::isfinite(x.z) || !std::isfinite(u.x) ||
-          !std::isfinite(u.y) || !std::isfinite(u.z))
-        throw Error("lammps engine: a particle's position or velocity is not a finite number");
-    }
+    // Refused here, on every rank alike (each is given every particle),
+    // before LAMMPS sees them (its box from the particles, or create_atoms,
+    // would stop the program).
+    for (const Particle& p : ps)
+      if (!finite(p)) throw Error(particle_error(p));
     if (!box_made_) {
       Box3 b;
       for (const Particle& p : ps) b.add(p.position);
       make_box(b);
     }
-    const int n = static_cast<int>(ps.size());
+    for (const Particle& p : ps) {
+      const std::string e = particle_error(p);
+      if (!e.empty()) throw Error(e);
+    }
     const std::vector<int> tags = book_.new_tags(ps.size());
-    std::vector<double> x(3 * ps.size()), v(3 * ps.size());
-    for (size_t k = 0; k < ps.size(); ++k) {
-      const Particle& p = ps[k];
-      x[3 * k] = p.position.x, x[3 * k + 1] = p.position.y, x[3 * k + 2] = p.position.z;
-      v[3 * k] = p.velocity.x, v[3 * k + 1] = p.velocity.y, v[3 * k + 2] = p.velocity.z;
-      if (!(p.radius > 0) || p.radius > constants_.max_radius * (1 + 1e-9))
-        throw Error("lammps engine: a particle's radius " + num(p.radius) + " is not in (0, max_radius]");
-      if (!inside_box(p.position))
-        throw Error("lammps engine: a particle at " + num(p.position.x) + "," + num(p.position.y) + "," +
-                    num(p.position.z) + " lies outside the engine's box");
-    }
-    const int before = lmp_->nlocal();
-    const int made = lmp_->create_atoms(tags, x, v);
-    if (made != n)
-      throw Error("lammps engine: " + std::to_string(n) + " particles given, " + std::to_string(made) + " created");
-    // Radius and mass of the new atoms this rank owns (create_atoms gives 0.5 and density 1).
-    const int after = lmp_->nlocal();
-    int* tag = lmp_->atoms<int*>("id");
-    double* radius = lmp_->atoms<double*>("radius");
-    double* rmass = lmp_->atoms<double*>("rmass");
-    for (int i = before; i < after; ++i) {
-      const Particle& p = ps[static_cast<size_t>(tag[i] - tags[0])];
-      radius[i] = p.radius;
-      rmass[i] = p.mass > 0 ? p.mass : particle_mass(params_, p.radius);
-    }
+    lammps_engine::NewAtoms atoms;
+    for (size_t k = 0; k < ps.size(); ++k) atoms.add(tags[k], ps[k], mass_of(ps[k]));
+    create(atoms, ps.size());  // each rank keeps those in its sub-domain
     for (size_t k = 0; k < ps.size(); ++k) book_.append(tags[k], ps[k].id);
+    dirty_ = true;
+    return first;
+  }
+
+  /// Each rank passes lammps_create_atoms only the births it decided (its
+  /// sub-domain's); every rank books every member's tag and id, in the
+  /// order of `ids`, so the indices stay the same everywhere.
+  size_t add_decided_particles(const std::vector<Particle>& mine, const std::vector<uint64_t>& ids) override {
+    flush();
+    const size_t first = book_.size();
+    if (ids.empty()) return first;
+    std::unordered_map<uint64_t, size_t> slot;  // id -> its place in the batch
+    for (size_t k = 0; k < ids.size(); ++k) slot.emplace(ids[k], k);
+    if (!box_made_) make_box(bounds_over_ranks(mine));
+    // Each rank checks its own; an error any rank meets ends every rank alike.
+    std::string error;
+    for (const Particle& p : mine) {
+      if (error.empty()) error = particle_error(p);
+      if (error.empty() && !slot.count(p.id))
+        error = "lammps engine: a birth's id " + std::to_string(p.id) + " is not one of its batch's";
+    }
+    lmp_->throw_if_any(error);
+    const std::vector<int> tags = book_.new_tags(ids.size());
+    lammps_engine::NewAtoms atoms;
+    for (const Particle& p : mine) atoms.add(tags[slot[p.id]], p, mass_of(p));
+    atoms.sort_by_tag();
+    lammps_engine::BirthTally& tally = lammps_engine::birth_tally();
+    tally.outside += lammps_engine::share_strays(*lmp_, atoms);
+    tally.batches += 1, tally.newborns += ids.size(), tally.passed += atoms.size();
+    create(atoms, ids.size());
+    for (size_t k = 0; k < ids.size(); ++k) book_.append(tags[k], ids[k]);
     dirty_ = true;
     return first;
   }
@@ -374,6 +386,42 @@ class LammpsEngine final : public ParticleEngine {
       dirty_ = false;
     }
     lammps_engine::last_subdomain() = lmp_->subdomain();
+  }
+
+  static bool finite(const Particle& p) { return is_finite(p.position) && is_finite(p.velocity); }
+
+  /// What LAMMPS could not take of p, in one line; empty where it can.
+  std::string particle_error(const Particle& p) const {
+    if (!finite(p)) return "lammps engine: a particle's position or velocity is not a finite number";
+    if (!(p.radius > 0) || p.radius > constants_.max_radius * (1 + 1e-9))
+      return "lammps engine: a particle's radius " + num(p.radius) + " is not in (0, max_radius]";
+    if (box_made_ && !inside_box(p.position))
+      return "lammps engine: a particle at " + num(p.position.x) + "," + num(p.position.y) + "," +
+             num(p.position.z) + " lies outside the engine's box";
+    return "";
+  }
+
+  double mass_of(const Particle& p) const { return p.mass > 0 ? p.mass : particle_mass(params_, p.radius); }
+
+  /// The box of every rank's particles (a birth batch before any box: no field set).
+  Box3 bounds_over_ranks(const std::vector<Particle>& ps) const {
+    std::string error;
+    for (const Particle& p : ps)
+      if (error.empty() && !finite(p)) error = particle_error(p);
+    lmp_->throw_if_any(error);
+    Box3 b;
+    for (const Particle& p : ps) b.add(p.position);
+    double lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
+    MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, lmp_->comm());
+    MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, lmp_->comm());
+    return Box3{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+  }
+
+  /// Creates the atoms (collective); `n`: how many the ranks meant to create.
+  void create(const lammps_engine::NewAtoms& atoms, size_t n) {
+    const int made = lammps_engine::create_new_atoms(*lmp_, atoms);
+    if (made != static_cast<int>(n))
+      throw Error("lammps engine: " + std::to_string(n) + " particles given, " + std::to_string(made) + " created");
   }
 
   bool inside_box(const Vec3& p) const {

@@ -67,8 +67,14 @@ int LammpsSession::create_atoms(const std::vector<int>& tags, const std::vector<
                                 const std::vector<double>& v) {
   std::vector<int> types(tags.size(), 1);
   drop_ghosts();
-  return lammps_create_atoms(lmp_, static_cast<int>(tags.size()), tags.data(), types.data(), x.data(), v.data(),
-                             nullptr, 0);
+  // Never a null id array, even for no atoms: with none LAMMPS numbers the
+  // atoms itself (Atom::tag_extend, a collective the other ranks, given
+  // ids, would not join).
+  const int none = 1;
+  const double nowhere[3] = {0, 0, 0};
+  return lammps_create_atoms(lmp_, static_cast<int>(tags.size()), tags.empty() ? &none : tags.data(),
+                             types.empty() ? &none : types.data(), x.empty() ? nowhere : x.data(),
+                             v.empty() ? nowhere : v.data(), nullptr, 0);
 }
 
 /// Forget this rank's ghost atoms before atoms are created through the
@@ -108,6 +114,18 @@ std::vector<double> LammpsSession::gather(const std::vector<double>& mine) const
   std::vector<double> all(static_cast<size_t>(offsets.back() + counts.back()));
   MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm_);
   return all;
+}
+
+void LammpsSession::throw_if_any(const std::string& error) const {
+  int from = error.empty() ? ranks_ : rank_;
+  if (ranks_ > 1) MPI_Allreduce(MPI_IN_PLACE, &from, 1, MPI_INT, MPI_MIN, comm_);
+  if (from == ranks_) return;
+  if (ranks_ == 1) throw Error(error);
+  int n = rank_ == from ? static_cast<int>(error.size()) : 0;
+  MPI_Bcast(&n, 1, MPI_INT, from, comm_);
+  std::string said = rank_ == from ? error : std::string(static_cast<size_t>(n), ' ');
+  MPI_Bcast(&said[0], n, MPI_CHAR, from, comm_);
+  throw Error(said);
 }
 
 }  // namespace lammps_engine

@@ -65,7 +65,8 @@ class LammpsSession {
   }
 
   /// n atoms of type 1 with the given tags, positions and velocities (3 n
-  /// each); every rank passes the same and keeps those in its sub-domain.
+  /// each; n may differ between ranks, and be 0); each rank keeps those in
+  /// its sub-domain of the atoms every rank passed.
   /// Returns how many were created over all ranks. The new atoms this rank
   /// owns are its indices [nlocal before, nlocal after).
   int create_atoms(const std::vector<int>& tags, const std::vector<double>& x, const std::vector<double>& v);
@@ -76,6 +77,12 @@ class LammpsSession {
 
   /// Every rank's `mine`, in rank order, on every rank.
   std::vector<double> gather(const std::vector<double>& mine) const;
+
+  /// Where any rank met an error (`error` not empty there), every rank
+  /// throws pfill::Error with the message of the lowest such rank, so that
+  /// an error met on one rank's share is said, by rank 0, and ends every
+  /// rank alike. Collective (one MPI_Allreduce; two MPI_Bcast on an error).
+  void throw_if_any(const std::string& error) const;
 
  private:
   void drop_ghosts();

@@ -10,6 +10,7 @@
 
 #include "pfill/engine/birth_view.hpp"
 #include "pfill/engine/params.hpp"
+#include "pfill/error.hpp"
 #include "pfill/engine/step_record.hpp"
 #include "pfill/grid.hpp"
 #include "pfill/vec3.hpp"
@@ -42,6 +43,18 @@ class ParticleEngine {
   /// Appends particles; returns the index of the first.
   virtual size_t add_particles(const std::vector<Particle>& particles) = 0;
   size_t add_particle(const Particle& p) { return add_particles({p}); }
+  /// Appends a batch of births split over the processes that share this
+  /// engine (issue 31): `ids` names the whole batch in order, the same on
+  /// every process; `mine` holds the members this process decided (its
+  /// BirthView), each member given by exactly one process. The batch gets
+  /// consecutive indices in the order of `ids`; returns the first. One
+  /// process (the default): `mine` is the whole batch, in that order.
+  virtual size_t add_decided_particles(const std::vector<Particle>& mine, const std::vector<uint64_t>& ids) {
+    if (mine.size() != ids.size())
+      throw Error("engine: " + std::to_string(ids.size()) + " births named, " + std::to_string(mine.size()) +
+                  " given; one process must give them all");
+    return add_particles(mine);
+  }
   /// Removes particles by index, largest first, each swapped with the last.
   virtual void remove_particles(std::vector<size_t> indices) = 0;
   /// Runs (or enqueues) k steps.
