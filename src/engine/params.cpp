@@ -51,9 +51,13 @@ void derive_cells(const EngineParams& p, double rest, EngineConstants& c) {
   c.cell_capacity_up = c.cell_levels == 1 ? c.cell_capacity : cell_capacity_for(2 * c.cell_size, up_diameter);
 }
 
-}  // namespace
+// The skin derive_constants uses: Engine resolves an automatic skin for its
+// step form first; elsewhere, as in the reference, which lists nothing, it
+// is the gpu form's.
+double skin_sigma_of(const EngineParams& p) { return p.skin_sigma > 0 ? p.skin_sigma : kGpuFormSkinSigma; }
 
-EngineConstants derive_constants(const EngineParams& p) {
+// Every setting's range, one line naming the bad one (derive_constants).
+void check_params(const EngineParams& p) {
   require(std::isfinite(p.radius) && p.radius > 0, "radius must be > 0");
   require(p.max_radius == 0 || p.max_radius >= p.radius, "max_radius must be 0 or >= radius");
   require(p.rest_distance >= 0, "rest_distance must be >= 0 (0: twice the radius)");
@@ -67,11 +71,8 @@ EngineConstants derive_constants(const EngineParams& p) {
   require(p.max_step_fraction > 0 && p.max_step_fraction <= 0.5, "max_step_fraction must be in (0, 0.5]");
   require(p.force_cap >= 0, "force_cap must be >= 0 (0: derived)");
   require(p.skin_sigma >= 0 && p.skin_sigma <= 2, "skin_sigma must be in [0, 2] (0: automatic)");
-  // (Engine resolves an automatic skin for its step form first; elsewhere,
-  // as in the reference, which lists nothing, it is the gpu form's.)
-  const double skin_sigma = p.skin_sigma > 0 ? p.skin_sigma : kGpuFormSkinSigma;
   require(p.inner_skin_sigma > 0, "inner_skin_sigma must be > 0");
-  require(p.inner_lists != InnerLists::on || p.inner_skin_sigma < skin_sigma,
+  require(p.inner_lists != InnerLists::on || p.inner_skin_sigma < skin_sigma_of(p),
           "inner_skin_sigma must be below skin_sigma for inner lists");
   require(p.history_capacity >= 2, "history_capacity must be >= 2");
   require(std::isfinite(p.wall_offset), "wall_offset must be a finite number");
@@ -87,6 +88,12 @@ EngineConstants derive_constants(const EngineParams& p) {
     require(f.delay >= 0, "fire.delay must be >= 0");
   }
 
+}
+
+}  // namespace
+
+EngineConstants derive_constants(const EngineParams& p) {
+  check_params(p);
   EngineConstants c;
   const double a = p.exponent_a, b = p.exponent_b;
   const double rest = p.rest_distance > 0 ? p.rest_distance : 2 * p.radius;
@@ -115,7 +122,7 @@ EngineConstants derive_constants(const EngineParams& p) {
                        ? c.max_radius > p.radius * (1 + kEqualRadiusTolerance)
                        : p.pair_scaling == PairScaling::on;
   const double q_max = c.polydisperse ? c.max_radius / p.radius : 1.0;
-  c.skin = skin_sigma * c.sigma;
+  c.skin = skin_sigma_of(p) * c.sigma;
   // (2 max_radius: a sphere up to max_radius touches at r_i + r_j even below the scaled rest distance)
   c.list_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.skin;
   derive_cells(p, rest, c);
