@@ -72,6 +72,17 @@ Vec3 momentum(const std::vector<Particle>& ps) {
   return m;
 }
 
+
+// A LAMMPS engine of small_params() on `field` (which must outlive it),
+// holding `start`, run `steps` steps.
+std::unique_ptr<ParticleEngine> lattice_engine(const ScalarGrid& field, const std::vector<Particle>& start, int steps) {
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(small_params());
+  lmp->share_field(field);
+  lmp->add_particles(start);
+  lmp->run_steps(steps);
+  return lmp;
+}
+
 }  // namespace
 
 TEST_CASE("lammps engine: without LAMMPS built in, one line says so") {
@@ -264,13 +275,9 @@ TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {
 // are the verdicts of the whole set, and at 2 ranks no rank holds every atom.
 TEST_CASE("lammps engine: the births' view per rank gives every site the verdict of the whole set") {
   if (!lammps_available()) return;
-  const EngineParams p = small_params();
   const ScalarGrid field = ball_field(0.5, 0.02);
-  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
-  lmp->share_field(field);
   const std::vector<Particle> start = lattice(0.5, 0.11, 5);
-  lmp->add_particles(start);
-  lmp->run_steps(20);
+  std::unique_ptr<ParticleEngine> lmp = lattice_engine(field, start, 20);
   const double reach = 0.08;  // less than the lattice's spacing: room between its points
   const BirthView whole = lmp->birth_view(reach, true);
   const BirthView mine = lmp->birth_view(reach, false);
@@ -354,13 +361,9 @@ TEST_CASE("lammps engine: the first waves' newborns as on one process") {
 // sent on and still created once.
 TEST_CASE("lammps engine: births split over the ranks, booked on every rank") {
   if (!lammps_available()) return;
-  const EngineParams p = small_params();
   const ScalarGrid field = ball_field(0.5, 0.02);
-  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
-  lmp->share_field(field);
   const std::vector<Particle> start = lattice(0.5, 0.11, 5);
-  lmp->add_particles(start);
-  lmp->run_steps(5);
+  std::unique_ptr<ParticleEngine> lmp = lattice_engine(field, start, 5);
   const BirthView view = lmp->birth_view(0.08, false);
   // Births between the lattice's points, ids of their own.
   std::vector<Particle> births = lattice(0.44, 0.11, 6);

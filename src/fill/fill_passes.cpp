@@ -56,10 +56,8 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
 // ---- before pass 1: the rare large spheres, placed ----
 void FillPasses::place_large_first(const ScalarGrid& field) {
   if (!sizes_) return;
-  // Their radii from a stream of their own (counter_rng.hpp: stream 2 of
-  // step 0), the same on every process.
-  std::mt19937_64 rng(CounterRng(o_.seed, 0, 0, 2)());
-  const std::vector<double> radii = sizes_->front_radii(rng);
+  // The radii large_first_scale tried (the same stream, on every process).
+  const std::vector<double> radii = front_loaded_radii(plan_, sites_.size(), o_.seed);
   if (radii.empty()) return;
   // Clear of the wall and of each other: every placed sphere starts with no force on it.
   const LargePlacement placed = pfill::place_large_first(field, radii, large_first_settings(plan_.radius));

@@ -117,9 +117,7 @@ bool SizeDeficit::may_lose(size_t k, double surplus_share) const {
   const bool rare = share < kRareClass && classes_[k].number_share <= kRareShare;
   const double allowed = rare ? 0 : std::max(1.0, surplus_share * left);
   if (static_cast<double>(count_[k] - 1) - share > -allowed) return true;
-  const auto law = sizes_.law();  // a continuous law: within the bins' KS tolerance, as for holes
-  return law != RadiusDistribution::Law::Discrete && law != RadiusDistribution::Law::Equal && !rare &&
-         binned_ks_with(k, -1) <= kKsTolerance;
+  return continuous() && !rare && binned_ks_with(k, -1) <= kKsTolerance;  // as holes, take_tolerated
 }
 
 double SizeDeficit::take_within(double room, std::mt19937_64& rng) {
@@ -134,8 +132,7 @@ double SizeDeficit::take_within(double room, std::mt19937_64& rng) {
 }
 
 double SizeDeficit::take_tolerated(double room, std::mt19937_64& rng) {
-  const auto law = sizes_.law();  // (discrete classes are held to their shares by number or volume)
-  if (law == RadiusDistribution::Law::Discrete || law == RadiusDistribution::Law::Equal) return 0;
+  if (!continuous()) return 0;
   for (size_t k = classes_.size(); k-- > 0;) {
     if (classes_[k].lo > room || (!cap_.empty() && count_[k] >= cap_[k])) continue;
     if (binned_ks_with(k, +1) > kKsTolerance) continue;

@@ -81,6 +81,11 @@ class SizeDeficit {
   /// `change` (+1 or -1) spheres in bin k.
   double binned_ks_with(size_t k, int change) const;
   double take_tolerated(double room, std::mt19937_64& rng);
+  /// A law whose bins may drift within the KS tolerance (discrete classes
+  /// are held to their shares by number or volume: those are the contract).
+  bool continuous() const {
+    return sizes_.law() != RadiusDistribution::Law::Discrete && sizes_.law() != RadiusDistribution::Law::Equal;
+  }
 
   RadiusDistribution sizes_;
   std::vector<SizeClass> classes_;
