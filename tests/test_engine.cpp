@@ -272,6 +272,12 @@ TEST_CASE("engine settings: the automatic choices are made for a device's kind, 
   mix.max_radius = 4 * mix.radius;
   mix.cutoff_sigma = 2.5;  // long rows with a cutoff: the equal spheres' skin
   CHECK(resolve_for_device(cpu, mix).skin_sigma == kCpuFormSkinSigma);
+  EngineParams births = repulsive;  // a fill's passes 1-2: the cpu form's wider skin, not with a cutoff
+  births.births_at_speed = true;
+  CHECK(resolve_for_device(cpu, births).skin_sigma == kCpuFormBirthsSkinSigma);
+  CHECK(resolve_for_device(gpu, births).skin_sigma == kGpuFormSkinSigma);
+  births.cutoff_sigma = 2.5;
+  CHECK(resolve_for_device(cpu, births).skin_sigma == kCpuFormSkinSigma);
   CHECK(c.newton);  // at most 4 cores
   CHECK(c.pair_queue);  // purely repulsive
   CHECK(!c.inner_lists);

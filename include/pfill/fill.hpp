@@ -129,7 +129,7 @@ struct FillOptions {
   // ---- tuning: machinery ----
   double field_spacing = 0.33;  ///< signed distance grid spacing, in radii
   size_t max_field_samples = size_t(1) << 26;  ///< coarser spacing beyond this
-  double skin = 0;              ///< neighbour-list skin, in sigma; 0: the step form's automatic one (0.5 on CPUs, 0.9 there for purely repulsive radii 1:2 and wider; 0.3 on GPUs)
+  double skin = 0;              ///< neighbour-list skin, in sigma; 0: the step form's automatic one (on CPUs 0.9 for purely repulsive spheres while they are born (passes 1-2, the settle; radii 1:2 and wider throughout), else 0.5; 0.3 on GPUs)
   int sync_every = 8;           ///< steps between reads of the step history (the report's schedule)
   int sort_every = 256;         ///< steps between renumberings of the particles along the cells (0: never)
 

@@ -157,7 +157,9 @@ double particle_mass(const EngineParams& p, double r) { return std::pow(r / p.ra
 double automatic_skin_sigma(const EngineParams& p, bool gpu_form) {
   if (gpu_form) return kGpuFormSkinSigma;
   const bool repulsive = p.cutoff_sigma <= 0;  // (with a cutoff the rows are long: a wider skin costs more than the rebuilds it saves)
-  return repulsive && p.max_radius >= kMixSkinRatio * p.radius ? kCpuFormMixSkinSigma : kCpuFormSkinSigma;
+  if (!repulsive) return kCpuFormSkinSigma;
+  if (p.max_radius >= kMixSkinRatio * p.radius) return kCpuFormMixSkinSigma;
+  return p.births_at_speed ? kCpuFormBirthsSkinSigma : kCpuFormSkinSigma;
 }
 
 DeviceChoices resolve_for_device(const DeviceInfo& device, const EngineParams& p) {

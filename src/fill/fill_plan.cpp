@@ -159,6 +159,7 @@ EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o) {
   p.dt = o.time_step * derive_constants(p).tau;
   p.max_step_fraction = o.max_step;
   p.skin_sigma = o.skin;
+  p.births_at_speed = true;
   return p;
 }
 

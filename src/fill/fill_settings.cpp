@@ -242,7 +242,7 @@ std::vector<FillSetting> other_tuning_settings() {
            "Allowed crossing of the surface, a fraction of r"),
       // ---- tuning: machinery ----
       real(FIELD(field_spacing), T::Tuning, "Distance field spacing, in radii"),
-      real(FIELD(skin), T::Tuning, "Neighbour-list skin in sigma (0: automatic, 0.5 on CPUs (0.9 for repulsive radii 1:2 and wider), 0.3 on GPUs)"),
+      real(FIELD(skin), T::Tuning, "Neighbour-list skin in sigma (0: automatic, on CPUs 0.9 while repulsive spheres are born, else 0.5; 0.3 on GPUs)"),
       whole(FIELD(sync_every), T::Tuning, 1,
             "Steps between reads of the step history and positions (the report's schedule)"),
       whole(FIELD(sort_every), T::Tuning, 0,

@@ -94,6 +94,11 @@ struct ListParams {
   /// a step at N = 1e5, both cutoffs; bench_variants) and 0.3 in the `gpu`
   /// form (which reads the whole list every step).
   double skin_sigma = 0;
+  /// Particles are born at speed (a fill's passes 1 and 2 and its settle):
+  /// some particle always moves at the top speed, so lists go stale every
+  /// few steps, and the `cpu` form's automatic skin for purely repulsive
+  /// spheres is kCpuFormBirthsSkinSigma. Off for relaxations.
+  bool births_at_speed = false;
   Box3 domain;                     ///< cell-grid box when no field is set (particles outside still work, slower)
   /// `cpu` form: dynamic pruning (as GROMACS does it). Every so often each
   /// list is pruned to an inner list of the pairs within the reach plus
@@ -240,6 +245,14 @@ constexpr double kGpuFormSkinSigma = 0.3;
 /// particle-step at 0.5, 1.18x at 0.9). With a cutoff (--cutoff lj) the
 /// rows are long and 0.9 cost more than it saved (1:2: 1.30x -> 1.50x).
 constexpr double kCpuFormMixSkinSigma = 0.9;
+/// The `cpu` form's automatic skin while particles are born at speed
+/// (ListParams::births_at_speed), purely repulsive: at the top speed of 0.1
+/// sigma a step a particle crosses half a 0.5 skin in 3 steps, and lists
+/// were rebuilt on a third of pass 1's steps (spot -n 100000: 1,003 of
+/// 3,024), each costing 4-5 plain steps. At 0.9, a fifth (627): pass 1's
+/// kernels 17% less at 1e5 (fill --max-steps 3000, alternated) and 25% in
+/// bench_step --fill. With a cutoff the rows are long (as for mixes).
+constexpr double kCpuFormBirthsSkinSigma = 0.9;
 constexpr double kMixSkinRatio = 2;
 /// The automatic skin of a step form for `p`'s spheres (0.5 / 0.3, or
 /// kCpuFormMixSkinSigma for the `cpu` form's wide mixes).
