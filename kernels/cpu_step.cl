@@ -18,7 +18,7 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
 PF_DEFINE_KICK_DRIFT(pf_kick_drift8, float8)
 PF_DEFINE_FIRE_KICK_DRIFT(pf_fire_kick_drift8, float8, int8)
 PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change8, float8)
-#define PF_SAMPLE8(PX, PY, PZ, G) pf_field_sample8(sdf, sdf_dims, sdf_origin, PX, PY, PZ, G)
+#define PF_SAMPLE8(PX, PY, PZ, G, LANES) pf_field_sample8(sdf, sdf_dims, sdf_origin, PX, PY, PZ, G, LANES)
 PF_DEFINE_WALL_PUSH(pf_wall_push8, float8, int8, pf_any8, PF_SAMPLE8, pf_wall_velocity_change8, PF_FIELD_ARG sdf,
                     float4 sdf_origin, int4 sdf_dims)
 
@@ -37,7 +37,7 @@ typedef struct {
  * into the caller's vectors would keep them in memory.) */
 pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims) {
   float8 g[3];
-  float8 phi = pf_field_sample8(sdf, sdf_dims, sdf_origin, s.px, s.py, s.pz, g);
+  float8 phi = pf_field_sample8(sdf, sdf_dims, sdf_origin, s.px, s.py, s.pz, g, near);
   const float8 grid_x = (s.px - sdf_origin.x) * sdf_origin.w, grid_y = (s.py - sdf_origin.y) * sdf_origin.w,
                grid_z = (s.pz - sdf_origin.z) * sdf_origin.w;
   const int8 outside_box = grid_x < 0.0f | grid_y < 0.0f | grid_z < 0.0f | grid_x > (float)(sdf_dims.x - 1) |

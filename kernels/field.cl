@@ -45,26 +45,29 @@ float pf_sdf_sample_image(__read_only image3d_t f, int nx, int ny, int nz, float
 #endif
 
 #ifndef PF_FIELD_IMAGE
-/* The field's values at 8 grid indices. */
-float8 pf_field_gather8_raw(__global const float* f, int8 at) {
+/* The field's values at 8 grid indices, read only in the `lanes` set
+ * (0 in the others): an octet near the wall often has one or two lanes
+ * there, and the reads, cache misses in a large field, are the cost. */
+float8 pf_field_gather8_raw(__global const float* f, int8 at, int8 lanes) {
 #if defined(PF_X86_AVX512)
-  return __builtin_ia32_gather3siv8sf((float8)(0.0f), (const void*)(size_t)f, at, (uchar)0xff, 4);
+  return __builtin_ia32_gather3siv8sf((float8)(0.0f), (const void*)(size_t)f, at, (uchar)PF_MASK8(lanes), 4);
 #else
-  int a[8];
+  int a[8], m[8];
   float v[8];
   vstore8(at, 0, a);
+  vstore8(lanes, 0, m);
 #pragma unroll
-  for (uint l = 0; l < 8u; ++l) v[l] = f[a[l]];
+  for (uint l = 0; l < 8u; ++l) v[l] = m[l] != 0 ? f[a[l]] : 0.0f;
   return vload8(0, v);
 #endif
 }
 
 /* ... with the wall's offset (physics.cl PF_SDF_AT). */
-float8 pf_field_gather8(__global const float* f, int8 at) {
+float8 pf_field_gather8(__global const float* f, int8 at, int8 lanes) {
 #ifdef PF_WALL_OFFSET
-  return pf_field_gather8_raw(f, at) + PF_WALL_OFFSET;
+  return pf_field_gather8_raw(f, at, lanes) + PF_WALL_OFFSET;
 #else
-  return pf_field_gather8_raw(f, at);
+  return pf_field_gather8_raw(f, at, lanes);
 #endif
 }
 #endif
@@ -74,14 +77,22 @@ PF_DEFINE_TRILINEAR(pf_trilinear8, float8)
 /* The wall field (value, and its gradient in g) at 8 points as float8
  * lanes: physics.cl pf_sdf_sample and pf_trilinear (as pf_trilinear8), the
  * corners read by gathers. With PF_FIELD_IMAGE each lane samples the
- * image on its own. */
-float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, float8 py, float8 pz, float8* g) {
+ * image on its own. Only the `lanes` set are read; the others' value and
+ * gradient are meaningless (callers select them away). */
+float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, float8 py, float8 pz, float8* g,
+                        int8 lanes) {
 #ifdef PF_FIELD_IMAGE
   float x[8], y[8], z[8], v[8], gx[8], gy[8], gz[8];
   vstore8(px, 0, x);
   vstore8(py, 0, y);
   vstore8(pz, 0, z);
+  int m[8];
+  vstore8(lanes, 0, m);
   for (uint l = 0; l < 8u; ++l) {
+    if (m[l] == 0) {
+      v[l] = gx[l] = gy[l] = gz[l] = 0.0f;
+      continue;
+    }
     float gl[3];
     v[l] = pf_sdf_sample_image(f, dims.x, dims.y, dims.z, origin.x, origin.y, origin.z, origin.w, x[l], y[l], z[l], gl);
     gx[l] = gl[0];
@@ -102,10 +113,10 @@ float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, flo
   const float8 tx = gx - convert_float8(i), ty = gy - convert_float8(j), tz = gz - convert_float8(k);
   const int sy = dims.x, sz = dims.x * dims.y;
   const int8 base = i + dims.x * (j + dims.y * k);
-  const float8 v000 = pf_field_gather8(f, base), v100 = pf_field_gather8(f, base + 1);
-  const float8 v010 = pf_field_gather8(f, base + sy), v110 = pf_field_gather8(f, base + (sy + 1));
-  const float8 v001 = pf_field_gather8(f, base + sz), v101 = pf_field_gather8(f, base + (sz + 1));
-  const float8 v011 = pf_field_gather8(f, base + (sy + sz)), v111 = pf_field_gather8(f, base + (sy + sz + 1));
+  const float8 v000 = pf_field_gather8(f, base, lanes), v100 = pf_field_gather8(f, base + 1, lanes);
+  const float8 v010 = pf_field_gather8(f, base + sy, lanes), v110 = pf_field_gather8(f, base + (sy + 1), lanes);
+  const float8 v001 = pf_field_gather8(f, base + sz, lanes), v101 = pf_field_gather8(f, base + (sz + 1), lanes);
+  const float8 v011 = pf_field_gather8(f, base + (sy + sz), lanes), v111 = pf_field_gather8(f, base + (sy + sz + 1), lanes);
   return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, (float8)(inv_spacing), g);
 #endif
 

@@ -10,7 +10,7 @@
  * X_out and V_out, the list requests its drift raises. Returns its record.
  * The GPU form's; the CPU form's pf_advance8 does the same 8 at a time. */
 /* physics.cl's wall push for one particle. */
-#define PF_SAMPLE1(PX, PY, PZ, G)                                                                                 \
+#define PF_SAMPLE1(PX, PY, PZ, G, LANES)                                                                                 \
   PF_FIELD_SAMPLE(sdf, sdf_dims.x, sdf_dims.y, sdf_dims.z, sdf_origin.x, sdf_origin.y, sdf_origin.z, sdf_origin.w, PX, \
                   PY, PZ, G)
 PF_DEFINE_WALL_PUSH(pf_wall_push, float, int, PF_ANY1, PF_SAMPLE1, pf_wall_velocity_change, PF_FIELD_ARG sdf,

@@ -185,7 +185,7 @@ PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change, PF_REAL)
       *py = select(*py, *py - push * g[1], pushing);                                                       \
       *pz = select(*pz, *pz - push * g[2], pushing);                                                       \
       T h[3];                                                                                              \
-      const T again = SAMPLE(*px, *py, *pz, h);                                                            \
+      const T again = SAMPLE(*px, *py, *pz, h, pushing);                                                            \
       phi = select(phi, again, pushing);                                                                   \
       g[0] = select(g[0], h[0], pushing);                                                                  \
       g[1] = select(g[1], h[1], pushing);                                                                  \

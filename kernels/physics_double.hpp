@@ -55,7 +55,7 @@ inline double sample(const ScalarGrid& f, double x, double y, double z, double* 
 // physics.cl's wall push and reflection, over `sample`.
 #define PF_FN inline
 #define PF_WALL_ITERATIONS kWallIterations
-#define PF_SAMPLE_DOUBLE(PX, PY, PZ, G) sample(field, PX, PY, PZ, G)
+#define PF_SAMPLE_DOUBLE(PX, PY, PZ, G, LANES) sample(field, PX, PY, PZ, G)
 PF_DEFINE_WALL_PUSH(wall_push, double, int, PF_ANY1, PF_SAMPLE_DOUBLE, pf_wall_velocity_change,
                     const ScalarGrid& field)
 #undef PF_SAMPLE_DOUBLE
