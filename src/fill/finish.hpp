@@ -50,7 +50,7 @@ struct FinishSettings {
   int max_rounds = 30;          ///< relaxations, each followed by removals or insertions
   double removal_share = 0.5;   ///< share of the estimated excess removed after a jammed relaxation (damped)
   /// The same under FIRE: all of it. FIRE stalls at the jammed state, where
-  /// the estimate falls short of what must go (spot -n 4000, seed 1: 72
+  /// the estimate falls short of what must go (spot -n 4000, seed 1: 71
   /// estimated at the first stall, 92 deleted in all); at 0.5 the packing
   /// lost them over more relaxations, at 1.5 and 2 it lost more (docs/finish.md).
   double fire_removal_share = 1;
