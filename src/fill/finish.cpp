@@ -9,12 +9,12 @@
 // runs out of steps while the count still falls runs on. Only
 // when it stalls above 0 is the packing too full there: then the
 // most compressed spheres go, as many as the overlaps imply (half as many
-// when damped), and one in each of the most pressed tenth of the jams, never two touching
-// ones in a round, and the relaxation runs again. Holes the relaxed packing
-// leaves get a sphere, relaxed in, while a round finds enough; then
-// every hole a sphere fits without overlap gets one as it is. If the rounds
-// run out, one sphere of each pair still over the bound goes, so the bound
-// always holds.
+// when damped), and one in each of the most pressed tenth of the jams,
+// never two touching ones in a round, and the relaxation runs again.
+// Holes the relaxed packing leaves get a sphere, relaxed in, while a
+// round finds enough; then every hole a sphere fits without overlap gets
+// one as it is. If the rounds run out, one sphere of each pair still over
+// the bound goes, so the bound always holds.
 //
 // The device runs the relaxation; the host reads the step history every
 // `chunk_steps` steps (a few scalars) and the positions once a relaxation.
