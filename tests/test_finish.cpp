@@ -122,6 +122,28 @@ TEST_CASE("finish: FIRE reaches the bound on an over-full packing in fewer steps
   CHECK(fired.size() + 5 >= damped.size());  // as many spheres kept, or nearly
 }
 
+TEST_CASE("finish: under FIRE, deleting all of the excess the overlaps imply at a stall takes fewer steps than half") {
+  // The over-full ball (as above). FIRE stalls at the jammed state, where
+  // the estimate falls short of what must go: half of it a round only
+  // spreads the same deletions over more relaxations.
+  const std::vector<Particle> ps = lattice(1.5 * kR, kBall - kR);
+  REQUIRE(ps.size() > 250);
+  FinishStats all, half;
+  FinishSettings s = settings(0.001, 0);
+  REQUIRE(s.fire_removal_share == 1);
+  const ParticleSet by_all = finish_packing(shared_device(), base_params(), ball_field(), ps, s, all);
+  s.fire_removal_share = 0.5;
+  const ParticleSet by_half = finish_packing(shared_device(), base_params(), ball_field(), ps, s, half);
+  INFO("all: " << all.steps << " steps, " << all.rounds << " relaxations, " << by_all.size()
+               << " spheres; half: " << half.steps << " steps, " << half.rounds << " relaxations, " << by_half.size()
+               << " spheres");
+  CHECK(all.steps < half.steps);
+  CHECK(all.rounds < half.rounds);
+  CHECK(by_all.size() + 3 >= by_half.size());  // as many spheres kept, or nearly
+  CHECK(worst_overlap(by_all) <= 0.001);
+  CHECK(all.forced == 0);
+}
+
 TEST_CASE("finish: a loose packing is compressed by holes taken below 2r, to a dense one within the bound") {
   // Spacing 2.5 r: a packing of 0.17 in the ball, with room everywhere
   // between the lattice points for spheres that overlap their neighbours.

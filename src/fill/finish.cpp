@@ -8,13 +8,13 @@
 // when that count is 0 or stops falling, with no positions read; one that
 // runs out of steps while the count still falls runs on. Only
 // when it stalls above 0 is the packing too full there: then the
-// most compressed spheres go, about half of the excess the overlaps imply
-// and one in each of the most pressed tenth of the jams, never two touching
-// ones in a round, and the relaxation runs again. Holes the relaxed packing
-// leaves get a sphere, relaxed in, while a round finds enough; then
-// every hole a sphere fits without overlap gets one as it is. If the rounds
-// run out, one sphere of each pair still over the bound goes, so the bound
-// always holds.
+// most compressed spheres go, as many as the overlaps imply (half as many
+// when damped), and one in each of the most pressed tenth of the jams,
+// never two touching ones in a round, and the relaxation runs again.
+// Holes the relaxed packing leaves get a sphere, relaxed in, while a
+// round finds enough; then every hole a sphere fits without overlap gets
+// one as it is. If the rounds run out, one sphere of each pair still over
+// the bound goes, so the bound always holds.
 //
 // The device runs the relaxation; the host reads the step history every
 // `chunk_steps` steps (a few scalars) and the positions once a relaxation.
@@ -287,10 +287,11 @@ class Finisher {
   }
 
   /// After a stalled relaxation: the spheres pressed hardest go, about
-  /// `removal_share` of the excess the overlaps imply (shrinking a sphere's
-  /// radius by s of r frees 3 s of its volume; a sphere needs to shrink by
-  /// half its worst excess overlap), and no two that overlap each other in
-  /// one round (removing one relieves its neighbours).
+  /// `fire_removal_share` (FIRE) or `removal_share` (damped) of the excess
+  /// the overlaps imply (shrinking a sphere's radius by s of r frees 3 s of
+  /// its volume; a sphere needs to shrink by half its worst excess overlap),
+  /// and no two that overlap each other in one round (removing one relieves
+  /// its neighbours).
   void remove_most_compressed(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
     const size_t n = now.size();
     std::vector<double> need(n, 0), pressed(n, 0);
@@ -359,7 +360,8 @@ class Finisher {
       if (out.size() >= most) break;
       if (!jam_done[find(static_cast<uint32_t>(i))] && !blocked[i] && may_go(i)) take(i);
     }
-    const size_t want = static_cast<size_t>(std::ceil(s_.removal_share * excess));
+    const double share = s_.fire ? s_.fire_removal_share : s_.removal_share;
+    const size_t want = static_cast<size_t>(std::ceil(share * excess));
     for (size_t i : candidates) {
       if (out.size() >= want) break;
       if (!blocked[i] && !chosen[i] && may_go(i)) take(i);
