@@ -66,6 +66,7 @@ class FillRun {
     FillPasses passes(*engine_, o_, plan_, sites_, room_sites_, reporter_, result_);
     passes.place_large_first(field_);
     size_caps_ = passes.size_caps();
+    result_.setup_seconds = std::max(0.0, reporter_.elapsed() - result_.field_seconds);
     passes.pass1();
     note_device_times();
     passes.pass2();
@@ -240,10 +241,12 @@ class FillRun {
 
   // ---- verify: exact containment, holes, metrics (fill_verify.cpp) ----
   void verify() {
+    const Stopwatch t;
     reporter_.enter(FillPhase::Verify);
     reporter_.report(particles_.size(), 0, 0, fill_steps_ + relax_steps_, relax_steps_);
     verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, size_caps_, o_, std::move(particles_),
                 next_id_, result_);
+    result_.verify_seconds = t.seconds();
     result_.seconds = reporter_.elapsed();
     result_.steps = fill_steps_ + relax_steps_;
     result_.peak_memory = peak_resident_bytes();
