@@ -14,6 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <future>
 #include <limits>
 #include <memory>
 
@@ -127,6 +128,11 @@ class FillRun {
 
     reporter_.enter(FillPhase::Field);
     reporter_.report(0, 0, 0, 0, 0);
+    // The device opens beside the Embree scene and the field (PoCL loads
+    // LLVM and starts its threads: ~0.15-0.25 s); its errors come after the field's, as before.
+    std::future<std::unique_ptr<Device>> device;
+    if (!o_.engine)
+      device = std::async(std::launch::async, [this] { return std::make_unique<Device>(o_.device, profile_requested()); });
     boundary_ = std::make_unique<Boundary>(mesh_);
     SdfStats stats;
     field_ = build_signed_distance_field(*boundary_, plan_.field, &stats);
@@ -137,7 +143,7 @@ class FillRun {
     plan_sites();
     rescale_for_large_first();
 
-    if (!o_.engine) device_ = std::make_unique<Device>(o_.device, profile_requested());
+    if (device.valid()) device_ = device.get();
     result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
     if (device_) check_device_memory(*device_, plan_, stats.bytes);
     params_ = plan_engine_params(plan_, o_);
