@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <utility>
 
 #include <tbb/parallel_for.h>
 
@@ -18,45 +17,66 @@ constexpr uint64_t kAxis = (uint64_t(1) << 21) - 1;
 // would not give.
 constexpr double kMargin = 1e-6;
 
-// Points of the mesh's triangles: their corners, and a lattice about
-// `spacing` apart on those wider than that; one per cube of `spacing`
-// (a sort, not a hash set: the closed bunny's 35k corners in milliseconds).
-std::vector<Vec3> surface_samples(const Mesh& mesh, double spacing) {
-  std::vector<std::pair<uint64_t, Vec3>> keyed;
-  const double inv = 1 / spacing;
-  auto add = [&](const Vec3& p) {
-    const auto cell = [&](double v) { return static_cast<uint64_t>(static_cast<int64_t>(std::floor(v * inv)) & 0x1FFFFF); };
-    keyed.emplace_back(cell(p.x) << 42 | cell(p.y) << 21 | cell(p.z), p);
-  };
-  std::vector<char> used(mesh.positions.size(), 0);  // (a vertex no triangle uses is no wall)
-  for (const Triangle& t : mesh.triangles) used[t[0]] = used[t[1]] = used[t[2]] = 1;
-  for (size_t v = 0; v < used.size(); ++v)
-    if (used[v]) add(mesh.positions[v]);
-  for (const Triangle& t : mesh.triangles) {
-    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
-    const double longest = std::max({length(b - a), length(c - b), length(a - c)});
-    const int n = static_cast<int>(std::ceil(longest / spacing));
-    for (int i = 0; n > 1 && i <= n; ++i)
-      for (int j = 0; i + j <= n; ++j) add(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
-  }
-  std::stable_sort(keyed.begin(), keyed.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
-  std::vector<Vec3> out;
-  for (size_t i = 0; i < keyed.size(); ++i)
-    if (i == 0 || keyed[i].first != keyed[i - 1].first) out.push_back(keyed[i].second);
-  return out;
-}
-
 }  // namespace
 
 DepthTest::DepthTest(const Boundary& boundary, double depth, const Vec3& lattice_origin, double step)
     : boundary_(boundary), depth_(depth),
       lipschitz_(boundary.closed() && !boundary.overlapping() && !boundary.union_of_parts()),
       origin_(lattice_origin), corner_step_(2 * step) {
-  if (boundary.union_of_parts()) return;  // its inner surfaces are no wall: no samples
-  samples_ = surface_samples(boundary.mesh(), depth / 2);
-  const double limit = depth * (1 - kMargin);
-  limit2_ = limit * limit;
-  grid_ = CentreGrid(samples_, depth);
+  if (boundary.union_of_parts()) return;  // its inner surfaces are no wall: no voxels
+  mark_wall_voxels(boundary.mesh());
+}
+
+// Voxels a sample of the surface lies in: the triangles' corners, and a
+// lattice half a voxel apart on those wider than that. A point in such a
+// voxel or a face neighbour lies within sqrt(6) voxels of that sample.
+void DepthTest::mark_wall_voxels(const Mesh& mesh) {
+  voxel_ = depth_ * (1 - kMargin) / std::sqrt(6.0);
+  const Box3 box = mesh.bounds();
+  voxel_origin_ = box.lo - Vec3(2, 2, 2) * voxel_;
+  uint64_t voxels = 1;
+  for (int a = 0; a < 3; ++a) {
+    voxel_dims_[a] = static_cast<int64_t>((box.hi[a] - box.lo[a]) / voxel_) + 5;
+    voxels *= static_cast<uint64_t>(voxel_dims_[a]);
+  }
+  if (voxels > (uint64_t(1) << 31)) return;  // (256 MiB of bits: the exact test alone)
+  wall_.assign(voxels / 64 + 1, 0);
+  auto add = [&](const Vec3& p) {
+    const int64_t n = voxel_of(p);
+    if (n >= 0) wall_[static_cast<uint64_t>(n) >> 6] |= uint64_t(1) << (n & 63);
+  };
+  for (const Triangle& t : mesh.triangles) {  // (a vertex no triangle uses is no wall)
+    const Vec3 &a = mesh.positions[t[0]], &b = mesh.positions[t[1]], &c = mesh.positions[t[2]];
+    const double longest = std::max({length(b - a), length(c - b), length(a - c)});
+    const int n = std::max(1, static_cast<int>(std::ceil(2 * longest / voxel_)));
+    for (int i = 0; i <= n; ++i)
+      for (int j = 0; i + j <= n; ++j) add(a + (b - a) * (double(i) / n) + (c - a) * (double(j) / n));
+  }
+}
+
+int64_t DepthTest::voxel_of(const Vec3& p) const {
+  int64_t c[3];
+  for (int a = 0; a < 3; ++a) {
+    const double v = std::floor((p[a] - voxel_origin_[a]) / voxel_);
+    if (!(v >= 0 && v < static_cast<double>(voxel_dims_[a]))) return -1;
+    c[a] = static_cast<int64_t>(v);
+  }
+  return c[0] + voxel_dims_[0] * (c[1] + voxel_dims_[1] * c[2]);
+}
+
+bool DepthTest::near_wall(const Vec3& p) const {
+  if (wall_.empty()) return false;
+  const int64_t n = voxel_of(p);
+  if (n < 0) return false;
+  const int64_t steps[7] = {0, 1, -1, voxel_dims_[0], -voxel_dims_[0], voxel_dims_[0] * voxel_dims_[1],
+                            -voxel_dims_[0] * voxel_dims_[1]};
+  for (int64_t d : steps) {  // (the margin of 2 voxels keeps the neighbours of a point near the mesh inside)
+    const int64_t m = n + d;
+    if (m >= 0 && static_cast<uint64_t>(m) < static_cast<uint64_t>(wall_.size()) * 64 &&
+        (wall_[static_cast<uint64_t>(m) >> 6] >> (m & 63)) & 1)
+      return true;
+  }
+  return false;
 }
 
 bool DepthTest::exact(const Vec3& p) const {

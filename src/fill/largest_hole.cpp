@@ -3,11 +3,13 @@
 // spheres, largest gap first, checked for depth with the boundary, then the
 // best few climbed to their hole's centre.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "fill/centre_grid.hpp"
 #include "fill/depth_test.hpp"
@@ -132,13 +134,51 @@ class HoleSearch {
                       static_cast<double>(at >> 42)) * h_;
   }
 
+  /// One bit a grid point, set from several threads.
+  struct Bits {
+    std::unique_ptr<std::atomic<uint64_t>[]> words;
+    bool test(uint64_t n) const { return words && (words[n >> 6].load(std::memory_order_relaxed) >> (n & 63)) & 1; }
+    void set(uint64_t n) { words[n >> 6].fetch_or(uint64_t(1) << (n & 63), std::memory_order_relaxed); }
+  };
+  uint64_t grid_index(int i, int j, int k) const {
+    return static_cast<uint64_t>(i) + static_cast<uint64_t>(n_[0]) * (static_cast<uint64_t>(j) + static_cast<uint64_t>(n_[1]) * k);
+  }
+
+  /// The grid points some sphere's surface lies within `floor_gap` of (by
+  /// the expression gap_above() reads): each sphere marks the few points
+  /// of its own box (~60 at r / 2), where gap_above() would scan the 27
+  /// cells around each point until it met that sphere. None past 2^33 points.
+  Bits covered_points(double floor_gap) const {
+    Bits bits;
+    const uint64_t points = static_cast<uint64_t>(n_[0]) * static_cast<uint64_t>(n_[1]) * static_cast<uint64_t>(n_[2]);
+    if (points > (uint64_t(1) << 33)) return bits;
+    bits.words.reset(new std::atomic<uint64_t>[points / 64 + 1]());
+    for (const SizeLevel& l : levels_)
+      tbb::parallel_for(size_t(0), l.centres.size(), [&](size_t s) {
+        const Vec3& c = l.centres[s];
+        const double reach = l.radii[s] + floor_gap;
+        int from[3], to[3];
+        for (int a = 0; a < 3; ++a) {  // (a point of margin against rounding: the test below decides)
+          from[a] = std::max(0, static_cast<int>(std::floor((c[a] - reach - lo_[a]) / h_)) - 1);
+          to[a] = std::min(n_[a] - 1, static_cast<int>(std::ceil((c[a] + reach - lo_[a]) / h_)) + 1);
+        }
+        for (int k = from[2]; k <= to[2]; ++k)
+          for (int j = from[1]; j <= to[1]; ++j)
+            for (int i = from[0]; i <= to[0]; ++i)
+              if (length(c - (lo_ + Vec3(i, j, k) * h_)) - l.radii[s] <= floor_gap) bits.set(grid_index(i, j, k));
+      });
+    return bits;
+  }
+
   /// Grid points near the spheres with room beyond `floor_gap`, by slices
   /// in parallel, largest gap first.
   std::vector<Candidate> collect(double floor_gap) const {
+    const Bits covered = covered_points(floor_gap);
     std::vector<std::vector<Candidate>> slices(static_cast<size_t>(n_[2]));
     tbb::parallel_for(0, n_[2], [&](int k) {
       for (int j = 0; j < n_[1]; ++j)
         for (int i = 0; i < n_[0]; ++i) {
+          if (covered.test(grid_index(i, j, k))) continue;  // (gap_above would say so, after a longer scan)
           const double g = gap_above(lo_ + Vec3(i, j, k) * h_, floor_gap);
           if (g > floor_gap)
             slices[static_cast<size_t>(k)].push_back(
@@ -153,7 +193,8 @@ class HoleSearch {
       cands.insert(cands.end(), s.begin(), s.end());
       std::vector<Candidate>().swap(s);
     }
-    std::sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
+    // (A total order: the parallel sort gives the one answer.)
+    tbb::parallel_sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
       if (a.gap != b.gap) return a.gap > b.gap;
       const Vec3 pa = point(a.at), pb = point(b.at);
       return std::tie(pa.x, pa.y, pa.z) < std::tie(pb.x, pb.y, pb.z);
