@@ -3,11 +3,14 @@
 // end of pass 1, and whole fills of generated shapes with births in waves.
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <random>
 
 #include "pfill/birth_sites.hpp"
+#include "pfill/boundary.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/grid.hpp"
+#include "pfill/sdf.hpp"
 #include "pfill/shapes.hpp"
 #include "pfill/stop_tests.hpp"
 
@@ -59,6 +62,49 @@ TEST_CASE("spread sites: the deepest first, all deep enough, spaced, covering, a
   CHECK(ratio < 10.5);
   // A field with no point deep enough has no site.
   CHECK(spread_birth_sites(field, spacing, 1.5).empty());
+}
+
+// spread_birth_sites as it was before its candidates were gathered in
+// parallel and the chosen sites kept in a dense grid: a scan of every site.
+std::vector<BirthSite> spread_sites_by_scan(const ScalarGrid& sdf, double spacing, double min_depth) {
+  std::vector<std::pair<float, size_t>> candidates;
+  const int stride = std::max(1, static_cast<int>(spacing / 3 / sdf.spacing));
+  for (int k = 0; k < sdf.dims[2]; k += stride)
+    for (int j = 0; j < sdf.dims[1]; j += stride)
+      for (int i = 0; i < sdf.dims[0]; i += stride)
+        if (-sdf.at(i, j, k) >= min_depth) candidates.emplace_back(-sdf.at(i, j, k), sdf.index(i, j, k));
+  std::sort(candidates.begin(), candidates.end(), [](const auto& a, const auto& b) {
+    return a.first > b.first || (a.first == b.first && a.second < b.second);
+  });
+  std::vector<BirthSite> sites;
+  const int nx = sdf.dims[0], ny = sdf.dims[1];
+  for (const auto& [depth, index] : candidates) {
+    const Vec3 p = sdf.point(static_cast<int>(index % nx), static_cast<int>((index / nx) % ny),
+                             static_cast<int>(index / (static_cast<size_t>(nx) * ny)));
+    if (std::none_of(sites.begin(), sites.end(),
+                     [&](const BirthSite& s) { return dot(s.position - p, s.position - p) < spacing * spacing; }))
+      sites.push_back({p, depth});
+  }
+  return sites;
+}
+
+TEST_CASE("spread sites are those of a scan of every chosen site, in the same order (a torus, two spacings)") {
+  const Boundary torus(make_torus(1.0, 0.4, 48, 24));
+  SdfOptions so(0.03);
+  const ScalarGrid field = build_signed_distance_field(torus, so);
+  for (double spacing : {0.09, 0.25}) {
+    const std::vector<BirthSite> fast = spread_birth_sites(field, spacing, 0.05);
+    const std::vector<BirthSite> scan = spread_sites_by_scan(field, spacing, 0.05);
+    INFO("spacing " << spacing << ": " << fast.size() << " and " << scan.size() << " sites");
+    REQUIRE(fast.size() == scan.size());
+    REQUIRE(fast.size() > 20);
+    for (size_t k = 0; k < fast.size(); ++k) {
+      CHECK(fast[k].position.x == scan[k].position.x);
+      CHECK(fast[k].position.y == scan[k].position.y);
+      CHECK(fast[k].position.z == scan[k].position.z);
+      CHECK(fast[k].depth == scan[k].depth);
+    }
+  }
 }
 
 TEST_CASE("the grid room test answers as the scan of every centre does") {

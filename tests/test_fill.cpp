@@ -64,6 +64,15 @@ TEST_CASE("fill a cube") {
   CHECK(r.field_bytes > 0);
 #endif
   CHECK(fill_report_json(r, "cube", 1, "cube.ply")["peak_memory_bytes"] == r.peak_memory);
+  // Its time: the field, the set-up, the passes and the verify, each once, within the whole.
+  CHECK(r.setup_seconds > 0);
+  CHECK(r.verify_seconds > 0);
+  double parts = r.field_seconds + r.setup_seconds + r.verify_seconds;
+  for (const PassStats& p : r.passes) parts += p.seconds;
+  CHECK(parts <= r.seconds + 1e-6);
+  CHECK(parts > 0.8 * r.seconds);
+  CHECK(fill_report_json(r, "cube", 1, "cube.ply")["setup_seconds"] == r.setup_seconds);
+  CHECK(fill_report_json(r, "cube", 1, "cube.ply")["verify_seconds"] == r.verify_seconds);
 }
 
 TEST_CASE("fill a torus with the report's schedule: two sites spread round the ring") {

@@ -11,6 +11,7 @@
 #include "pfill/shapes.hpp"
 #include "pfill/voids.hpp"
 #include "fill/centre_grid.hpp"
+#include "fill/depth_test.hpp"
 
 using namespace pfill;
 
@@ -277,4 +278,40 @@ TEST_CASE("largest empty hole among spheres of radii 1:5: the large sphere's sur
   CHECK(length(h.centre) > big);
   // pfill check's figure is the fill's: of the smallest radius.
   CHECK(measure_packing(b, 8.0, mix).largest_hole == doctest::Approx(h.gap_over_r));
+}
+
+TEST_CASE("the hole search's depth test answers as the exact signed distance does: closed, open and two-part meshes") {
+  Mesh two = make_cube(0.5, 2);  // a cube and a ball that overlap: a union of parts
+  two.corner_uvs.clear();
+  const Mesh second = make_icosphere(0.6, 2);
+  for (const Triangle& t : second.triangles)
+    two.triangles.push_back({t[0] + static_cast<uint32_t>(two.positions.size()),
+                             t[1] + static_cast<uint32_t>(two.positions.size()),
+                             t[2] + static_cast<uint32_t>(two.positions.size())});
+  for (const Vec3& v : second.positions) two.positions.push_back(v + Vec3(0.4, 0, 0));
+  const Mesh meshes[] = {make_torus(1.0, 0.4, 48, 24), make_open_cube(1.0, 3), two};
+  for (const Mesh& mesh : meshes) {
+    const Boundary boundary(mesh);
+    CHECK(boundary.union_of_parts() == (&mesh == &meshes[2]));
+    CHECK(boundary.closed() == (&mesh != &meshes[1]));
+    const double depth = 0.15, step = 0.037;
+    const Vec3 origin(-1.7, -1.7, -1.1);
+    DepthTest test(boundary, depth, origin, step);
+    std::vector<Vec3> points;
+    for (int k = 0; k < 60; ++k)
+      for (int j = 0; j < 92; ++j)
+        for (int i = 0; i < 92; ++i) points.push_back(origin + Vec3(i, j, k) * step);
+    const std::vector<uint8_t> batch = test.deep(points);
+    size_t deep = 0, wrong = 0, single_wrong = 0;
+    for (size_t n = 0; n < points.size(); ++n) {
+      const bool exact = boundary.fast_signed_distance(points[n]) <= -depth;
+      deep += exact;
+      wrong += (batch[n] != 0) != exact;
+      single_wrong += test.deep(points[n]) != exact;
+    }
+    INFO(mesh.triangles.size() << " triangles: " << deep << " of " << points.size() << " points deep");
+    CHECK(deep > 1000);
+    CHECK(wrong == 0);
+    CHECK(single_wrong == 0);
+  }
 }

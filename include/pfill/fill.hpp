@@ -198,6 +198,10 @@ struct FillResult {
   double field_spacing = 0;
   std::string device;
   double seconds = 0;
+  /// Of `seconds`: before pass 1 less the field (the plan, the Embree
+  /// scene, the sites, the device and its programs), and the exact check
+  /// after the finish (containment, holes, metrics, colours).
+  double setup_seconds = 0, verify_seconds = 0;
   uint64_t steps = 0;
   /// The process's peak resident bytes when the fill ended (peak_resident_bytes:
   /// on PoCL the device's buffers included; 0 where the platform does not say).

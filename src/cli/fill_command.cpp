@@ -316,7 +316,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
               (p.kernel_seconds >= 0  // PFILL_PROFILE=1
                    ? " [kernels " + num(p.kernel_seconds, 3) + "s, transfers " + num(p.transfer_seconds, 3) + "s]"
                    : std::string());
-  std::printf("  time            %.1fs (field %.1fs; %s)\n", r.seconds, r.field_seconds, passes.c_str());
+  std::printf("  time            %.1fs (field %.1fs; set-up %ss; %s; verify %ss)\n", r.seconds, r.field_seconds,
+              num(r.setup_seconds, 2).c_str(), passes.c_str(), num(r.verify_seconds, 2).c_str());
   if (r.peak_memory > 0)
     std::printf("  memory          peak %s MiB resident (the distance field %s MiB)\n",
                 thousands(r.peak_memory >> 20).c_str(), thousands(r.field_bytes >> 20).c_str());

@@ -2,10 +2,12 @@
 #include "pfill/birth_sites.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 
-#include "fill/centre_grid.hpp"
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 namespace pfill {
 
@@ -74,37 +76,101 @@ bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double cl
 
 namespace pfill {
 
-std::vector<BirthSite> spread_birth_sites(const ScalarGrid& sdf, double spacing, double min_depth) {
-  struct Candidate {
-    float depth;
-    size_t index;
-  };
+namespace {
+
+struct SiteCandidate {
+  float depth;
+  size_t index;
+};
+
+// The sub-lattice's points at least `min_depth` deep, in grid order; its
+// z-slices in parallel (the field of a 1e5 fill has 2^26 samples).
+std::vector<SiteCandidate> deep_points(const ScalarGrid& sdf, int stride, double min_depth) {
   const int nx = sdf.dims[0], ny = sdf.dims[1], nz = sdf.dims[2];
-  const int stride = std::max(1, static_cast<int>(spacing / 3 / sdf.spacing));
-  std::vector<Candidate> candidates;
-  for (int k = 0; k < nz; k += stride)
+  const int slices = (nz + stride - 1) / stride;
+  std::vector<std::vector<SiteCandidate>> found(static_cast<size_t>(std::max(slices, 0)));
+  tbb::parallel_for(0, slices, [&](int s) {
+    const int k = s * stride;
     for (int j = 0; j < ny; j += stride)
       for (int i = 0; i < nx; i += stride) {
         const float depth = -sdf.at(i, j, k);
-        if (depth >= min_depth) candidates.push_back({depth, sdf.index(i, j, k)});
+        if (depth >= min_depth) found[static_cast<size_t>(s)].push_back({depth, sdf.index(i, j, k)});
       }
+  });
+  std::vector<SiteCandidate> out;
+  for (const auto& f : found) out.insert(out.end(), f.begin(), f.end());
+  return out;
+}
+
+// The sites chosen so far in a dense grid of cells at least `spacing`
+// wide over the field's box (a hash of cells cost a lookup per cell and
+// candidate: a second of the 1e5 fill's set-up), each cell a linked list.
+class ChosenSites {
+ public:
+  ChosenSites(const ScalarGrid& sdf, double spacing) : origin_(sdf.origin), spacing2_(spacing * spacing) {
+    const Vec3 size = sdf.upper() - sdf.origin;
+    constexpr double kMostCells = 1 << 22;  // wider cells past that: the query stays complete
+    cell_ = std::max(spacing, std::cbrt((size.x + spacing) * (size.y + spacing) * (size.z + spacing) / kMostCells));
+    for (int a = 0; a < 3; ++a) dims_[a] = static_cast<int>(size[a] / cell_) + 1;
+    head_.assign(static_cast<size_t>(dims_[0]) * dims_[1] * dims_[2], kNone);
+  }
+
+  /// Whether a chosen site lies closer than the spacing to p (p in the field's box).
+  bool near(const Vec3& p) const {
+    const auto c = cell_of(p);
+    for (int k = std::max(0, c[2] - 1); k <= std::min(dims_[2] - 1, c[2] + 1); ++k)
+      for (int j = std::max(0, c[1] - 1); j <= std::min(dims_[1] - 1, c[1] + 1); ++j)
+        for (int i = std::max(0, c[0] - 1); i <= std::min(dims_[0] - 1, c[0] + 1); ++i)
+          for (uint32_t m = head_[index(i, j, k)]; m != kNone; m = next_[m]) {
+            const Vec3 d = points_[m] - p;
+            if (dot(d, d) < spacing2_) return true;
+          }
+    return false;
+  }
+
+  void add(const Vec3& p) {
+    const auto c = cell_of(p);
+    uint32_t& head = head_[index(c[0], c[1], c[2])];
+    next_.push_back(head);
+    head = static_cast<uint32_t>(points_.size());
+    points_.push_back(p);
+  }
+
+ private:
+  static constexpr uint32_t kNone = 0xffffffffu;
+  std::array<int, 3> cell_of(const Vec3& p) const {
+    std::array<int, 3> c{};
+    for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor((p[a] - origin_[a]) / cell_)), 0, dims_[a] - 1);
+    return c;
+  }
+  size_t index(int i, int j, int k) const {
+    return static_cast<size_t>(i) + static_cast<size_t>(dims_[0]) * (static_cast<size_t>(j) + static_cast<size_t>(dims_[1]) * k);
+  }
+  Vec3 origin_;
+  double spacing2_, cell_ = 1;
+  std::array<int, 3> dims_{1, 1, 1};
+  std::vector<uint32_t> head_, next_;
+  std::vector<Vec3> points_;
+};
+
+}  // namespace
+
+std::vector<BirthSite> spread_birth_sites(const ScalarGrid& sdf, double spacing, double min_depth) {
+  const int nx = sdf.dims[0], ny = sdf.dims[1];
+  const int stride = std::max(1, static_cast<int>(spacing / 3 / sdf.spacing));
+  std::vector<SiteCandidate> candidates = deep_points(sdf, stride, min_depth);
   // Deepest first; ties by grid index, so the choice does not depend on the sort.
-  std::sort(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+  tbb::parallel_sort(candidates.begin(), candidates.end(), [](const SiteCandidate& a, const SiteCandidate& b) {
     return a.depth > b.depth || (a.depth == b.depth && a.index < b.index);
   });
   std::vector<BirthSite> sites;
-  CentreGrid chosen(spacing);
-  const double s2 = spacing * spacing;
-  for (const Candidate& c : candidates) {
+  if (candidates.empty()) return sites;
+  ChosenSites chosen(sdf, spacing);
+  for (const SiteCandidate& c : candidates) {
     const Vec3 p = sdf.point(static_cast<int>(c.index % nx), static_cast<int>((c.index / nx) % ny),
                              static_cast<int>(c.index / (static_cast<size_t>(nx) * ny)));
-    bool near = false;
-    chosen.for_near(p, [&](uint32_t id) {
-      const Vec3 d = sites[id].position - p;
-      near = near || dot(d, d) < s2;
-    });
-    if (near) continue;
-    chosen.insert(p, static_cast<uint32_t>(sites.size()));
+    if (chosen.near(p)) continue;
+    chosen.add(p);
     sites.push_back({p, c.depth});
   }
   return sites;

@@ -71,6 +71,8 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"passes", passes},
           {"steps", r.steps},
           {"seconds", r.seconds},
+          {"setup_seconds", r.setup_seconds},
+          {"verify_seconds", r.verify_seconds},
           {"peak_memory_bytes", r.peak_memory},
           {"field", {{"spacing", r.field_spacing}, {"bytes", r.field_bytes}, {"seconds", r.field_seconds}}},
           {"sites", sites},

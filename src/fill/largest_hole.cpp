@@ -3,13 +3,16 @@
 // spheres, largest gap first, checked for depth with the boundary, then the
 // best few climbed to their hole's centre.
 #include <algorithm>
+#include <atomic>
 #include <cmath>
-#include <limits>
+#include <memory>
 #include <tuple>
 
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "fill/centre_grid.hpp"
+#include "fill/depth_test.hpp"
 #include "fill/hole_climb.hpp"
 #include "pfill/error.hpp"
 #include "pfill/packing_metrics.hpp"
@@ -51,8 +54,7 @@ std::vector<SizeLevel> size_levels(const ParticleSet& particles, double radius) 
 class HoleSearch {
  public:
   HoleSearch(const Boundary& boundary, const ParticleSet& particles, double radius)
-      : boundary_(boundary), radius_(radius),
-        h_(0.5 * radius), levels_(size_levels(particles, radius)) {
+      : radius_(radius), h_(0.5 * radius), levels_(size_levels(particles, radius)) {
     for (const SizeLevel& level : levels_) reach_ = std::max(reach_, level.reach);
     Box3 box;
     for (const Vec3& c : particles.positions) box.add(c);
@@ -60,6 +62,7 @@ class HoleSearch {
     for (int a = 0; a < 3; ++a) n_[a] = static_cast<int>(std::ceil((box.hi[a] - box.lo[a] + 2 * reach_) / h_)) + 1;
     if (static_cast<uint64_t>(std::max({n_[0], n_[1], n_[2]})) > kAxis)
       throw Error("largest hole: the packing spans more than 2^21 grid points of r / 2 along an axis");
+    depth_ = std::make_unique<DepthTest>(boundary, radius, lo_, h_);
   }
 
   Hole run() {
@@ -103,33 +106,80 @@ class HoleSearch {
     return g;
   }
 
-  /// Within some sphere's reach (its level's): elsewhere the gap is at its cap.
-  bool near_any(const Vec3& p) const {
-    for (const SizeLevel& l : levels_)
-      if (l.grid.any_near(p, [&](uint32_t i) { return length(l.centres[i] - p) < l.reach; })) return true;
-    return false;
+  /// gap(p) where p lies within some sphere's reach (its level's; elsewhere
+  /// the gap is at its cap and p no candidate) and the gap exceeds `floor`;
+  /// else a value at most `floor`. The scan stops at the first sphere within
+  /// the floor (most grid points lie in a sphere): a 1e5 fill's search read
+  /// every sphere near each of its ~10^7 points. The same gaps as gap().
+  double gap_above(const Vec3& p, double floor) const {
+    double g = 2 * radius_;
+    bool near = false;
+    for (const SizeLevel& l : levels_) {
+      const bool below = l.grid.any_near(p, [&](uint32_t i) {
+        const double d = length(l.centres[i] - p);
+        near = near || d < l.reach;
+        g = std::min(g, d - l.radii[i]);
+        return g <= floor;
+      });
+      if (below) return g;
+    }
+    return near ? g : floor;
   }
 
   /// At least r inside, by exact distance (points outside the mesh fail).
-  bool deep(const Vec3& p) const {
-    return boundary_.fast_signed_distance(p, std::numeric_limits<double>::infinity()) <= -radius_;
-  }
+  bool deep(const Vec3& p) const { return depth_->deep(p); }
 
   Vec3 point(uint64_t at) const {
     return lo_ + Vec3(static_cast<double>(at & kAxis), static_cast<double>((at >> 21) & kAxis),
                       static_cast<double>(at >> 42)) * h_;
   }
 
+  /// One bit a grid point, set from several threads.
+  struct Bits {
+    std::unique_ptr<std::atomic<uint64_t>[]> words;
+    bool test(uint64_t n) const { return words && (words[n >> 6].load(std::memory_order_relaxed) >> (n & 63)) & 1; }
+    void set(uint64_t n) { words[n >> 6].fetch_or(uint64_t(1) << (n & 63), std::memory_order_relaxed); }
+  };
+  uint64_t grid_index(int i, int j, int k) const {
+    return static_cast<uint64_t>(i) + static_cast<uint64_t>(n_[0]) * (static_cast<uint64_t>(j) + static_cast<uint64_t>(n_[1]) * k);
+  }
+
+  /// The grid points some sphere's surface lies within `floor_gap` of (by
+  /// the expression gap_above() reads): each sphere marks the few points
+  /// of its own box (~60 at r / 2), where gap_above() would scan the 27
+  /// cells around each point until it met that sphere. None past 2^33 points.
+  Bits covered_points(double floor_gap) const {
+    Bits bits;
+    const uint64_t points = static_cast<uint64_t>(n_[0]) * static_cast<uint64_t>(n_[1]) * static_cast<uint64_t>(n_[2]);
+    if (points > (uint64_t(1) << 33)) return bits;
+    bits.words.reset(new std::atomic<uint64_t>[points / 64 + 1]());
+    for (const SizeLevel& l : levels_)
+      tbb::parallel_for(size_t(0), l.centres.size(), [&](size_t s) {
+        const Vec3& c = l.centres[s];
+        const double reach = l.radii[s] + floor_gap;
+        int from[3], to[3];
+        for (int a = 0; a < 3; ++a) {  // (a point of margin against rounding: the test below decides)
+          from[a] = std::max(0, static_cast<int>(std::floor((c[a] - reach - lo_[a]) / h_)) - 1);
+          to[a] = std::min(n_[a] - 1, static_cast<int>(std::ceil((c[a] + reach - lo_[a]) / h_)) + 1);
+        }
+        for (int k = from[2]; k <= to[2]; ++k)
+          for (int j = from[1]; j <= to[1]; ++j)
+            for (int i = from[0]; i <= to[0]; ++i)
+              if (length(c - (lo_ + Vec3(i, j, k) * h_)) - l.radii[s] <= floor_gap) bits.set(grid_index(i, j, k));
+      });
+    return bits;
+  }
+
   /// Grid points near the spheres with room beyond `floor_gap`, by slices
   /// in parallel, largest gap first.
   std::vector<Candidate> collect(double floor_gap) const {
+    const Bits covered = covered_points(floor_gap);
     std::vector<std::vector<Candidate>> slices(static_cast<size_t>(n_[2]));
     tbb::parallel_for(0, n_[2], [&](int k) {
       for (int j = 0; j < n_[1]; ++j)
         for (int i = 0; i < n_[0]; ++i) {
-          const Vec3 p = lo_ + Vec3(i, j, k) * h_;
-          if (!near_any(p)) continue;
-          const double g = gap(p);
+          if (covered.test(grid_index(i, j, k))) continue;  // (gap_above would say so, after a longer scan)
+          const double g = gap_above(lo_ + Vec3(i, j, k) * h_, floor_gap);
           if (g > floor_gap)
             slices[static_cast<size_t>(k)].push_back(
                 {g, static_cast<uint64_t>(i) | static_cast<uint64_t>(j) << 21 | static_cast<uint64_t>(k) << 42});
@@ -143,7 +193,8 @@ class HoleSearch {
       cands.insert(cands.end(), s.begin(), s.end());
       std::vector<Candidate>().swap(s);
     }
-    std::sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
+    // (A total order: the parallel sort gives the one answer.)
+    tbb::parallel_sort(cands.begin(), cands.end(), [&](const Candidate& a, const Candidate& b) {
       if (a.gap != b.gap) return a.gap > b.gap;
       const Vec3 pa = point(a.at), pb = point(b.at);
       return std::tie(pa.x, pa.y, pa.z) < std::tie(pb.x, pb.y, pb.z);
@@ -160,8 +211,9 @@ class HoleSearch {
     constexpr size_t kBatch = 4096;
     for (size_t first = 0; first < cands.size() && cands[first].gap > best_ - h_; first += kBatch) {
       const size_t last = std::min(cands.size(), first + kBatch);
-      std::vector<uint8_t> ok(last - first);
-      tbb::parallel_for(first, last, [&](size_t c) { ok[c - first] = deep(point(cands[c].at)); });
+      std::vector<Vec3> points(last - first);
+      for (size_t c = first; c < last; ++c) points[c - first] = point(cands[c].at);
+      const std::vector<uint8_t> ok = depth_->deep(points);
       for (size_t c = first; c < last; ++c)
         if (ok[c - first]) {
           if (cands[c].gap > best_) {
@@ -201,7 +253,7 @@ class HoleSearch {
       }
   }
 
-  const Boundary& boundary_;
+  std::unique_ptr<DepthTest> depth_;  ///< (its corners' values kept from batch to batch)
   double radius_, h_;  ///< h: the grid's spacing
   double reach_ = 0;   ///< the largest level's reach: the search box's margin
   std::vector<SizeLevel> levels_;
