@@ -8,8 +8,8 @@
 // when that count is 0 or stops falling, with no positions read; one that
 // runs out of steps while the count still falls runs on. Only
 // when it stalls above 0 is the packing too full there: then the
-// most compressed spheres go, as many as the overlaps imply (half as many
-// when damped), and one in each of the most pressed tenth of the jams,
+// most compressed spheres go, about half as many as the overlaps imply
+// (FinishSettings::removal_share, fire_removal_share), and one in each of the most pressed tenth of the jams,
 // never two touching ones in a round, and the relaxation runs again.
 // Holes the relaxed packing leaves get a sphere, relaxed in, while a
 // round finds enough; then every hole a sphere fits without overlap gets

@@ -49,11 +49,12 @@ struct FinishSettings {
   double jam_share = 0.1;       ///< after a stall, the most pressed of this share of the jams lose a sphere each (plus `removal_share` or, under FIRE, `fire_removal_share` of the excess)
   int max_rounds = 30;          ///< relaxations, each followed by removals or insertions
   double removal_share = 0.5;   ///< share of the estimated excess removed after a jammed relaxation (damped)
-  /// The same under FIRE: all of it. FIRE stalls at the jammed state, where
-  /// the estimate falls short of what must go (spot -n 4000, seed 1: 71
-  /// estimated at the first stall, 92 deleted in all); at 0.5 the packing
-  /// lost them over more relaxations, at 1.5 and 2 it lost more (docs/finish.md).
-  double fire_removal_share = 1;
+  /// The same under FIRE. FIRE stalls at the jammed state, where the
+  /// estimate falls short of what must go (spot -n 4000, seed 1: 71
+  /// estimated at the first stall, 92 deleted in all): all of it (1) took
+  /// 13% fewer finish steps at -n 4000 (seeds 1-10) but 35% more at 1e5
+  /// (7,700 -> 10,400), so the default stays at half (docs/finish.md).
+  double fire_removal_share = 0.5;
   double hole_clearance = 1.9;  ///< a hole takes a sphere where the nearest centre is this many r away
   int hole_rounds = 3;          ///< rounds of insertions into holes (0: none, not even where a sphere fits)
   /// A loose packing (pass 1 ended by the report's own tests, which fire
