@@ -40,12 +40,14 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
+#include "pfill/fill_report.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/shapes.hpp"
 
@@ -154,11 +156,8 @@ nlohmann::ordered_json scale_fill(const Mesh& mesh, size_t count, int sites, int
       double busy = 0;
       bool profiled = false;
       for (const PassStats& p : r.passes) {
-        passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
+        passes.push_back(pass_json(p));
         if (p.kernel_seconds >= 0) {  // PFILL_PROFILE=1 (the default of --scale)
-          passes.back()["kernel_seconds"] = p.kernel_seconds;
-          passes.back()["transfer_seconds"] = p.transfer_seconds;
-          passes.back()["host_seconds"] = p.seconds - p.kernel_seconds - p.transfer_seconds;
           busy += p.kernel_seconds + p.transfer_seconds;
           profiled = true;
         }
@@ -251,6 +250,16 @@ void print_scale_row(size_t n, const nlohmann::ordered_json& j) {
                     p["steps"].get<double>(), p["seconds"].get<double>(), p["kernel_seconds"].get<double>(),
                     p["transfer_seconds"].get<double>(), p["host_seconds"].get<double>());
     std::printf(" |\n");
+    // where each pass's kernel seconds went, the largest first
+    for (const auto& p : j["passes"]) {
+      if (!p.contains("kernels") || p["kernels"].empty()) continue;
+      std::vector<std::pair<double, std::string>> split;
+      for (const auto& [name, s] : p["kernels"].items()) split.push_back({s.get<double>(), name});
+      std::sort(split.rbegin(), split.rend());
+      std::printf("|   | %s kernels:", p["pass"].get<std::string>().c_str());
+      for (const auto& [s, name] : split) std::printf(" %s %.2f s;", name.c_str(), s);
+      std::printf(" |\n");
+    }
   }
   std::fflush(stdout);
 }

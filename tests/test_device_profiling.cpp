@@ -29,6 +29,17 @@ TEST_CASE("a profiling device times the engine's kernels and transfers (PFILL_PR
   CHECK(after.kernel_seconds > before.kernel_seconds);
   CHECK(after.transfer_seconds >= before.transfer_seconds);
   CHECK(device.times().kernels == after.kernels);  // nothing new queued
+  // The split by kernel name adds up to the kernels' total, and names the
+  // step's kernels (the CPU form's pair_forces, or the GPU form's).
+  double split = 0;
+  for (const auto& [name, seconds] : after.by_kernel) {
+    CHECK(!name.empty());
+    CHECK(seconds >= 0);
+    split += seconds;
+  }
+  CHECK(split == doctest::Approx(after.kernel_seconds).epsilon(1e-9));
+  CHECK(after.by_kernel.count("advance") == 1);
+  CHECK(after.by_kernel.at("advance") > 0);
   // Without profiling: nothing is counted.
   Device plain;
   CHECK(plain.times().kernels == 0);

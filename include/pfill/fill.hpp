@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -166,6 +167,7 @@ struct PassStats {
   /// host's work between them. < 0 when not profiled.
   double kernel_seconds = -1;
   double transfer_seconds = -1;
+  std::map<std::string, double> kernel_split{};  ///< profiled: kernel_seconds by kernel name
 };
 
 struct FillResult {

@@ -23,6 +23,11 @@ nlohmann::ordered_json metrics_json(const PackingMetrics& metrics);
 /// largest class distance). A fill's report holds it (null for equal spheres).
 nlohmann::ordered_json radii_json(const RadiusDistribution& asked, const DistributionFit& delivered);
 
+/// One pass of a fill: its name, steps and seconds; profiled
+/// (PFILL_PROFILE=1), also the device's seconds in kernels and transfers,
+/// the host's (the rest) and the kernels' seconds by name.
+nlohmann::ordered_json pass_json(const PassStats& pass);
+
 /// The whole report of a fill: the mesh's name, the output file (may be
 /// empty), the radius, the seed, the device, `metrics` (metrics_json), why
 /// pass 1 stopped, the removals, the passes' steps and seconds, the

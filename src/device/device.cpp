@@ -123,9 +123,9 @@ cl::Buffer Device::make_buffer(size_t bytes, const std::string& what, cl_mem_fla
 
 void Device::finish() { check_cl(queue_.finish(), "clFinish"); }
 
-void Device::note(const cl::Event& event, bool transfer) {
+void Device::note(const cl::Event& event, bool transfer, const std::string& kernel) {
   if (!profiling_ || event() == nullptr) return;
-  noted_.emplace_back(event, transfer);
+  noted_.push_back({event, transfer, kernel});
   if (noted_.size() >= 4096) fold(false);
 }
 
@@ -136,7 +136,7 @@ void Device::fold(bool wait) {
   if (wait) finish();
   size_t done = 0;
   for (; done < noted_.size(); ++done) {
-    const cl::Event& ev = noted_[done].first;
+    const cl::Event& ev = noted_[done].event;
     if (!wait) {
       cl_int status = CL_QUEUED;
       check_cl(ev.getInfo(CL_EVENT_COMMAND_EXECUTION_STATUS, &status), "clGetEventInfo");
@@ -146,11 +146,12 @@ void Device::fold(bool wait) {
     check_cl(ev.getProfilingInfo(CL_PROFILING_COMMAND_START, &start), "clGetEventProfilingInfo");
     check_cl(ev.getProfilingInfo(CL_PROFILING_COMMAND_END, &end), "clGetEventProfilingInfo");
     const double seconds = end > start ? static_cast<double>(end - start) * 1e-9 : 0.0;
-    if (noted_[done].second) {
+    if (noted_[done].transfer) {
       totals_.transfer_seconds += seconds;
       ++totals_.transfers;
     } else {
       totals_.kernel_seconds += seconds;
+      totals_.by_kernel[noted_[done].kernel] += seconds;
       ++totals_.kernels;
     }
   }

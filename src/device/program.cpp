@@ -169,7 +169,7 @@ void launch(Device& device, Kernel& kernel, size_t items, cl::Event* event) {
                                                nullptr, event),
            "clEnqueueNDRangeKernel", kernel.name() + " (" + std::to_string(global) + " items, work-group " +
                                          std::to_string(wg) + ")");
-  if (event) device.note(*event, false);
+  if (event) device.note(*event, false, kernel.name());
 }
 
 }  // namespace pfill

@@ -102,6 +102,11 @@ class FillRun {
     if (device_times_noted_ && !result_.passes.empty()) {
       result_.passes.back().kernel_seconds = now.kernel_seconds - device_times_.kernel_seconds;
       result_.passes.back().transfer_seconds = now.transfer_seconds - device_times_.transfer_seconds;
+      for (const auto& [name, seconds] : now.by_kernel) {
+        const auto before = device_times_.by_kernel.find(name);
+        const double pass = seconds - (before == device_times_.by_kernel.end() ? 0.0 : before->second);
+        if (pass > 0) result_.passes.back().kernel_split[name] = pass;
+      }
     }
     device_times_ = now;
     device_times_noted_ = true;

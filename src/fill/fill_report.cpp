@@ -37,16 +37,20 @@ nlohmann::ordered_json radii_json(const RadiusDistribution& d, const Distributio
           {"classes", classes}};
 }
 
+nlohmann::ordered_json pass_json(const PassStats& p) {
+  nlohmann::ordered_json j = {{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}};
+  if (p.kernel_seconds < 0) return j;  // not profiled
+  j["kernel_seconds"] = p.kernel_seconds;
+  j["transfer_seconds"] = p.transfer_seconds;
+  j["host_seconds"] = p.seconds - p.kernel_seconds - p.transfer_seconds;
+  j["kernels"] = p.kernel_split;
+  return j;
+}
+
 nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& mesh, uint64_t seed,
                                         const std::string& output) {
   nlohmann::ordered_json passes = nlohmann::ordered_json::array();
-  for (const PassStats& p : r.passes) {
-    passes.push_back({{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}});
-    if (p.kernel_seconds >= 0) {  // PFILL_PROFILE=1
-      passes.back()["kernel_seconds"] = p.kernel_seconds;
-      passes.back()["transfer_seconds"] = p.transfer_seconds;
-    }
-  }
+  for (const PassStats& p : r.passes) passes.push_back(pass_json(p));
   nlohmann::ordered_json sites = nlohmann::ordered_json::array();
   for (const BirthSite& s : r.sites)
     sites.push_back({{"position", {s.position.x, s.position.y, s.position.z}}, {"depth", s.depth}});

@@ -8,6 +8,7 @@
 #include <CL/opencl.hpp>
 
 #include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -45,6 +46,7 @@ struct DeviceTimes {
   double kernel_seconds = 0;    ///< kernel launches
   double transfer_seconds = 0;  ///< reads and writes between host and device
   uint64_t kernels = 0, transfers = 0;
+  std::map<std::string, double> by_kernel;  ///< kernel_seconds split by kernel name
 };
 
 /// An opened device: context and one in-order queue. Non-copyable, movable.
@@ -69,8 +71,9 @@ class Device {
   /// With profiling: keeps `event` (of a command enqueued with it) so that
   /// its time counts in times(); a kernel unless `transfer`. Completed
   /// events are folded into the totals now and then, so the list stays
-  /// short. Without profiling: nothing.
-  void note(const cl::Event& event, bool transfer);
+  /// short. Without profiling: nothing. `kernel` names a kernel's launch
+  /// (DeviceTimes::by_kernel).
+  void note(const cl::Event& event, bool transfer, const std::string& kernel = {});
   /// The event to pass to an enqueue, to note() after it: a fresh one with
   /// profiling, else nullptr (no event made).
   cl::Event* profiled(cl::Event& event) { return profiling_ ? &event : nullptr; }
@@ -83,7 +86,12 @@ class Device {
   cl::Context context_;
   cl::CommandQueue queue_;
   bool profiling_ = false;
-  std::vector<std::pair<cl::Event, bool>> noted_;  // not yet folded into totals_
+  struct Noted {
+    cl::Event event;
+    bool transfer;
+    std::string kernel;
+  };
+  std::vector<Noted> noted_;  // not yet folded into totals_
   DeviceTimes totals_;
   void fold(bool wait);
 };
