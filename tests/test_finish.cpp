@@ -8,6 +8,7 @@
 
 #include "engine_fixtures.hpp"
 #include "fill/finish.hpp"
+#include "fill/near_region.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/shapes.hpp"
@@ -229,4 +230,79 @@ TEST_CASE("the radius for a count allows for the bound and the wall") {
   // No count, no volume: no radius.
   CHECK(fill_radius_for_count(v, a, 0) == 0);
   CHECK(fill_radius_for_count(0, a, 4000) == 0);
+}
+
+TEST_CASE("finish: the spheres near a few places move, those around them are held, and come back by index") {
+  const std::vector<Particle> ps = lattice(2 * kR, kBall - kR);
+  const Vec3 place(0.1, 0, 0);
+  const NearRegion region = region_near(ps, {place}, 2.5 * kR, 2 * kR);
+  REQUIRE(!region.moving.empty());
+  REQUIRE(!region.held.empty());
+  std::vector<int> kind(ps.size(), 0);
+  for (uint32_t i : region.moving) kind[i] = 1;
+  for (uint32_t i : region.held) kind[i] = 2;
+  for (size_t i = 0; i < ps.size(); ++i) {
+    const double d = length(ps[i].position - place);
+    CHECK(kind[i] == (d < 2.5 * kR ? 1 : d < 4.5 * kR ? 2 : 0));
+  }
+  // Held spheres get the mass; ids are the indices.
+  const std::vector<Particle> part = region_particles(ps, region, 1e30);
+  REQUIRE(part.size() == region.moving.size() + region.held.size());
+  CHECK(part.front().id == region.moving.front());
+  CHECK(part.back().mass == 1e30);
+  CHECK(part.front().mass == ps[region.moving.front()].mass);
+  // The first moving sphere moved, the second gone (the wall took it), a held one "moved" (ignored).
+  REQUIRE(region.moving.size() >= 2);
+  std::vector<Particle> moved = part;
+  moved[0].position = moved[0].position + Vec3(0.01, 0, 0);
+  moved.erase(moved.begin() + 1);
+  moved.back().position = Vec3(9, 9, 9);
+  const std::vector<Particle> out = with_moved(ps, region, moved);
+  CHECK(out.size() == ps.size() - 1);
+  const size_t first = region.moving[0], second = region.moving[1];
+  CHECK(out[first].position.x == doctest::Approx(ps[first].position.x + 0.01));
+  for (const Particle& p : out) CHECK(length(p.position - ps[second].position) > 1e-9);
+  for (const Particle& p : out) CHECK(length(p.position - Vec3(9, 9, 9)) > 1);
+}
+
+TEST_CASE("finish: a held sphere (as good as infinite mass) stays put while its neighbour relaxes away from it") {
+  Particle a, b;
+  a.radius = b.radius = kR;
+  a.position = Vec3(-0.9 * kR, 0, 0);
+  b.position = Vec3(0.9 * kR, 0, 0);  // overlapping by 20% of r
+  const NearRegion region{{1}, {0}};
+  const std::vector<Particle> part = region_particles({a, b}, region, 1e30);
+  Engine engine(shared_device(), base_params());
+  engine.set_field(ball_field());
+  engine.add_particles(part);
+  engine.run_steps(300);
+  const std::vector<Particle> after = engine.read_particles();
+  REQUIRE(after.size() == 2);
+  for (const Particle& p : after) {
+    if (p.id == 0) CHECK(length(p.position - a.position) < 1e-6);  // held
+    if (p.id == 1) CHECK(p.position.x > b.position.x + 0.1 * kR);   // pushed away
+  }
+}
+
+TEST_CASE("finish: the last jams relaxed on their own meet the bound as relaxing all does") {
+  // The over-full ball; every relaxation after the first of the spheres
+  // within 3 r of a pair over the bound, those 3 r further held.
+  const std::vector<Particle> ps = lattice(1.5 * kR, kBall - kR);
+  FinishStats all, near;
+  FinishSettings s = settings(0.001, 0);
+  s.near_share = 0;
+  const ParticleSet by_all = finish_packing(shared_device(), base_params(), ball_field(), ps, s, all);
+  s.near_share = 1;
+  s.near_reach = 3;
+  const ParticleSet by_near = finish_packing(shared_device(), base_params(), ball_field(), ps, s, near);
+  INFO("all: " << all.steps << " steps, " << by_all.size() << " spheres; near: " << near.steps << " steps, "
+               << by_near.size() << " spheres, " << near.near_rounds << " of " << near.rounds << " relaxations near");
+  CHECK(all.near_rounds == 0);
+  CHECK(near.near_rounds > 0);
+  CHECK(near.near_rounds < near.rounds);  // the first is of all
+  CHECK(worst_overlap(by_near) <= 0.001);
+  CHECK(near.forced == 0);
+  CHECK(by_near.size() + near.removed == ps.size() + near.inserted);
+  CHECK(by_near.size() + 5 >= by_all.size());  // as many spheres kept, or nearly
+  for (const Vec3& p : by_near.positions) CHECK(length(p) <= kBall - kR * (1 - 1e-3));
 }

@@ -188,6 +188,7 @@ struct FillResult {
   size_t finish_removed = 0;    ///< deleted by the finish: no arrangement met the bound there (and any flagged outside)
   size_t finish_forced = 0;     ///< of those: one of each pair still over the bound when the finish's rounds ran out
   size_t finish_rounds = 0;     ///< the finish's relaxations
+  size_t finish_near_rounds = 0;  ///< of those, of the spheres near the last jams only (the rest held)
   size_t holes_filled = 0;      ///< spheres the finish inserted into holes (some may have gone again)
   ContainmentRepair containment;
   std::vector<PassStats> passes;

@@ -303,8 +303,10 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   if (shell) shell->print(stdout);
   std::printf("  pass 1 ended    %s: %s\n", r.stop_signal.c_str(), r.stop_reason.c_str());
   std::printf("  settle          %s\n", r.settle_reason.c_str());
-  std::printf("  finish          %s relaxations; %s added into holes; %s deleted where no arrangement met the bound%s\n",
-              thousands(r.finish_rounds).c_str(), thousands(r.holes_filled).c_str(),
+  std::printf("  finish          %s relaxations%s; %s added into holes; %s deleted where no arrangement met the bound%s\n",
+              thousands(r.finish_rounds).c_str(),
+              r.finish_near_rounds ? (" (" + thousands(r.finish_near_rounds) + " of the last jams alone)").c_str() : "",
+              thousands(r.holes_filled).c_str(),
               thousands(r.finish_removed).c_str(),
               r.finish_forced ? (" (" + thousands(r.finish_forced) + " when the rounds ran out)").c_str() : "");
   std::printf("  removed         %s flagged outside, %s by the exact check (%s moved in)\n",

@@ -218,6 +218,7 @@ class FillRun {
     result_.finish_removed = stats.removed;
     result_.finish_forced = stats.forced;
     result_.finish_rounds = stats.rounds;
+    result_.finish_near_rounds = stats.near_rounds;
     result_.holes_filled = stats.inserted;
     next_id_ = stats.next_id;
     result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, t.seconds()});

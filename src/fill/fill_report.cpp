@@ -69,6 +69,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"finish_removed", r.finish_removed},
           {"finish_forced", r.finish_forced},
           {"finish_rounds", r.finish_rounds},
+          {"finish_near_rounds", r.finish_near_rounds},
           {"holes_filled", r.holes_filled},
           {"containment_moved", r.containment.moved},
           {"containment_removed", r.containment.removed},

@@ -11,6 +11,9 @@
 // most compressed spheres go, about half as many as the overlaps imply
 // (FinishSettings::removal_share, fire_removal_share), and one in each of the most pressed tenth of the jams,
 // never two touching ones in a round, and the relaxation runs again.
+// The last few jams of a large packing relax on their own: only the
+// spheres near them move, on an engine of their own (a relaxation of all N
+// for a few hundred pairs cost spot at 1e6 a quarter of its fill).
 // Holes the relaxed packing leaves get a sphere, relaxed in, while a
 // round finds enough; then every hole a sphere fits without overlap gets
 // one as it is. If the rounds run out, one sphere of each pair still over
@@ -19,6 +22,7 @@
 // The device runs the relaxation; the host reads the step history every
 // `chunk_steps` steps (a few scalars) and the positions once a relaxation.
 #include "fill/finish.hpp"
+#include "fill/near_region.hpp"
 #include "fill/particle_set_of.hpp"
 #include "fill/size_deficit.hpp"
 
@@ -34,6 +38,9 @@
 
 namespace pfill {
 namespace {
+
+/// A held sphere's mass in a local relaxation: its speed stays 0 to float precision.
+constexpr double kHeldMass = 1e30;
 
 /// The engine's particles at their true radii (the engine's are smaller by
 /// `shrink`: half the bound of the smallest).
@@ -51,7 +58,7 @@ class Finisher {
  public:
   Finisher(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make, const EngineParams& base,
            const ScalarGrid& field, const FinishSettings& s, FinishStats& stats)
-      : s_(s), field_(field), stats_(stats) {
+      : s_(s), field_(field), stats_(stats), make_(make) {
     const double inflation = std::isnan(s.inflation) ? finish_inflation(s.max_overlap) : s.inflation;
     // The engine's spheres are smaller by half the bound, so that the
     // colliding pairs it counts every step are those over the bound, and
@@ -88,6 +95,7 @@ class Finisher {
     // misses some of the surface's bends, which the exact check then finds.
     // (The kernels add the offset as they read the field: no shifted copy.)
     p.wall_offset = s.radius * (1 + s.wall_margin) - engine_radius_;
+    params_ = p;
     engine_ = make(p);
     engine_->share_field(field);  // field_ outlives the engine
   }
@@ -107,7 +115,12 @@ class Finisher {
       now = current();
       const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
       size_t over = 0;
-      for (const Overlap& o : overlaps) over += o.fraction > s_.max_overlap;
+      hot_.clear();
+      for (const Overlap& o : overlaps)
+        if (o.fraction > s_.max_overlap) {
+          ++over;
+          hot_.push_back(0.5 * (now.positions[o.i] + now.positions[o.j]));
+        }
       if (over > 0) {
         if (round + 1 >= s_.max_rounds) {
           remove_one_of_each(now, overlaps);
@@ -140,6 +153,7 @@ class Finisher {
         continue;
       }
       if (!compressing) ++holes_done;
+      hot_.clear();  // newcomers everywhere: the next relaxation is of all
       last_inserted = insert_into_holes(now, holes, gaps, clearance);
       deleted_since_insert = 0;
       // Every class held at its cap: no hole takes a sphere, and another round would only relax.
@@ -242,30 +256,64 @@ class Finisher {
     return sizes_->take_within(std::min(room, -sample(field_, p) / (1 + s_.wall_margin)), rng_);
   }
 
-  /// Steps until no pair is over the bound, the count of those stops
-  /// falling, or the budget runs out; removes any the wall flagged outside.
+  /// A relaxation: of the spheres near the last round's pairs over the
+  /// bound (`hot_`) where they are few (relax_near), else of all.
   bool relax() {
     ++stats_.rounds;
+    if (!hot_.empty())
+      if (const std::optional<bool> stalled = relax_near()) return *stalled;
+    return relax_on(*engine_, engine_->size());
+  }
+
+  /// Relaxes only the spheres within `near_reach` r of a place in `hot_`,
+  /// with those up to `near_hold` r further held still (as good as infinite
+  /// mass), on an engine of their own; then the main engine takes the
+  /// moved spheres. Nothing (no relaxation) when the region holds more
+  /// than `near_share` of the spheres: a relaxation of all then costs
+  /// little more.
+  std::optional<bool> relax_near() {
+    std::vector<Particle> ps = engine_->read_particles();
+    const NearRegion region = region_near(ps, hot_, s_.near_reach * s_.radius, s_.near_hold * s_.radius);
+    if (static_cast<double>(region.moving.size() + region.held.size()) >
+        s_.near_share * static_cast<double>(ps.size()))
+      return std::nullopt;
+    std::unique_ptr<ParticleEngine> local = make_(params_);
+    local->share_field(field_);
+    local->add_particles(region_particles(ps, region, kHeldMass));
+    ++stats_.near_rounds;
+    const bool stalled = relax_on(*local, ps.size());
+    std::vector<Particle> kept = with_moved(std::move(ps), region, local->read_particles());
+    local.reset();
+    engine_ = make_(params_);
+    engine_->share_field(field_);
+    engine_->add_particles(kept);
+    return stalled;
+  }
+
+  /// Steps `e` until no pair is over the bound, the count of those stops
+  /// falling, or the budget runs out; removes any the wall flagged outside.
+  /// (`shown`: the sphere count for the progress lines.)
+  bool relax_on(ParticleEngine& e, size_t shown) {
     // Near in space, near in memory (Engine::sort_by_cells): the pass-1
     // order, holes' newcomers at the end and the removals' swaps otherwise
     // scatter neighbours through memory, which costs most at large counts.
-    engine_->sort_by_cells();
-    if (s_.fire) engine_->restart_minimiser();  // from rest, at the first step, after the changes of the last round
+    e.sort_by_cells();
+    if (s_.fire) e.restart_minimiser();  // from rest, at the first step, after the changes of the last round
     bool stalled = false;
     uint64_t done = 0;
     uint32_t pairs = 0, fewest = UINT32_MAX;
     int since_fewer = 0;
     while (done < s_.relax_steps) {
       if (s_.cancelled && s_.cancelled()) throw Cancelled();
-      engine_->run_steps(static_cast<size_t>(s_.chunk_steps));
+      e.run_steps(static_cast<size_t>(s_.chunk_steps));
       done += static_cast<uint64_t>(s_.chunk_steps);
       stats_.steps += static_cast<uint64_t>(s_.chunk_steps);
-      const std::vector<StepRecord> h = engine_->read_history();
+      const std::vector<StepRecord> h = e.read_history();
       if (h.empty()) break;
       const StepRecord& last = h.back();
       pairs = last.colliding_pairs;  // pairs over the bound (the engine's spheres are smaller by it)
       // A relaxation of 1e6 spheres takes minutes on a CPU: report as it goes.
-      if (progress_) progress_(engine_->size(), pairs);
+      if (progress_) progress_(shown, pairs);
       if (pairs == 0) break;
       // Stalled: the count over the bound has not fallen by `stall_fall` for `patience` reads.
       if (pairs < fewest - static_cast<uint32_t>(s_.stall_fall * fewest)) {
@@ -276,13 +324,13 @@ class Finisher {
         break;
       }
     }
-    std::vector<size_t> out = engine_->flagged_particles();
-    engine_->clear_flags();
+    std::vector<size_t> out = e.flagged_particles();
+    e.clear_flags();
     if (!out.empty()) {
       stats_.removed += out.size();
-      engine_->remove_particles(out);
+      e.remove_particles(out);
     }
-    if (progress_) progress_(engine_->size(), pairs);
+    if (progress_) progress_(shown - out.size(), pairs);
     return stalled;
   }
 
@@ -401,6 +449,9 @@ class Finisher {
   double deep_ = 0;  ///< how deep (by the field) a centre must lie
   uint64_t next_id_ = s_.first_id;  ///< the next inserted sphere's id
   std::unique_ptr<ParticleEngine> engine_;
+  std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> make_;
+  EngineParams params_;      ///< the relaxation's engines'
+  std::vector<Vec3> hot_;    ///< where the last round's pairs over the bound lie (their midpoints)
   std::function<void(size_t, uint32_t)> progress_;
 };
 

@@ -55,6 +55,13 @@ struct FinishSettings {
   /// 13% fewer finish steps at -n 4000 (seeds 1-10) but 35% more at 1e5
   /// (7,700 -> 10,400), so the default stays at half (docs/finish.md).
   double fire_removal_share = 0.5;
+  /// The last jams relax on their own (finish.cpp relax_near): the spheres
+  /// within `near_reach` r of a pair over the bound move, those up to
+  /// `near_hold` r further are held still, when all of them are at most
+  /// `near_share` of the spheres (0: every relaxation is of all).
+  double near_share = 0.25;
+  double near_reach = 6;
+  double near_hold = 3;
   double hole_clearance = 1.9;  ///< a hole takes a sphere where the nearest centre is this many r away
   int hole_rounds = 3;          ///< rounds of insertions into holes (0: none, not even where a sphere fits)
   /// A loose packing (pass 1 ended by the report's own tests, which fire
@@ -76,6 +83,7 @@ struct FinishStats {
   size_t removed = 0;     ///< spheres deleted because no arrangement met the bound (and any the wall flagged outside)
   size_t inserted = 0;    ///< spheres inserted into holes (some may have been deleted again)
   size_t rounds = 0;      ///< relaxations
+  size_t near_rounds = 0; ///< of those, of the spheres near the last jams only (FinishSettings::near_share)
   uint64_t steps = 0;     ///< relaxation steps
   size_t forced = 0;      ///< of `removed`: one of each pair still over the bound when the rounds ran out
   uint64_t next_id = 0;   ///< the id after the last one given to an inserted sphere

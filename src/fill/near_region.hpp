@@ -1,0 +1,36 @@
+// The spheres around a few places in a packing: those that may move (within
+// `reach` of one) and those held still around them (within `reach + hold`),
+// for the finish's local relaxation of its last jams (finish.cpp).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "pfill/engine/particle_engine.hpp"
+#include "pfill/vec3.hpp"
+
+namespace pfill {
+
+struct NearRegion {
+  std::vector<uint32_t> moving;  ///< indices into the particles, within `reach` of a place
+  std::vector<uint32_t> held;    ///< the others within `reach + hold` of one
+};
+
+/// The particles whose centres lie within `reach` of one of `places`
+/// (moving) and those within `reach + hold` of one but not moving (held),
+/// each list in the particles' order.
+NearRegion region_near(const std::vector<Particle>& particles, const std::vector<Vec3>& places, double reach,
+                       double hold);
+
+/// The particles of `region`, the moving ones first, as they are, then the
+/// held ones with mass `held_mass`; all at rest, each with its index in
+/// `particles` as its id (with_moved matches them by it).
+std::vector<Particle> region_particles(const std::vector<Particle>& particles, const NearRegion& region,
+                                       double held_mass);
+
+/// `particles` after the region's relaxation: each moving one where `moved`
+/// (region_particles' after the relaxation) has it, gone where `moved` has
+/// it not (the wall took it), the rest as they were; every velocity 0.
+std::vector<Particle> with_moved(std::vector<Particle> particles, const NearRegion& region,
+                                 const std::vector<Particle>& moved);
+
+}  // namespace pfill
