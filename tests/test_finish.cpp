@@ -252,17 +252,22 @@ TEST_CASE("finish: the spheres near a few places move, those around them are hel
   CHECK(part.back().mass == 1e30);
   CHECK(part.front().mass == ps[region.moving.front()].mass);
   // The first moving sphere moved, the second gone (the wall took it), a held one "moved" (ignored).
+  // (The lattice's ids are all 0: region_particles' ids are indices.)
   REQUIRE(region.moving.size() >= 2);
   std::vector<Particle> moved = part;
   moved[0].position = moved[0].position + Vec3(0.01, 0, 0);
   moved.erase(moved.begin() + 1);
   moved.back().position = Vec3(9, 9, 9);
   const std::vector<Particle> out = with_moved(ps, region, moved);
-  CHECK(out.size() == ps.size() - 1);
-  const size_t first = region.moving[0], second = region.moving[1];
-  CHECK(out[first].position.x == doctest::Approx(ps[first].position.x + 0.01));
-  for (const Particle& p : out) CHECK(length(p.position - ps[second].position) > 1e-9);
-  for (const Particle& p : out) CHECK(length(p.position - Vec3(9, 9, 9)) > 1);
+  REQUIRE(out.size() == ps.size() - 1);
+  const size_t first = region.moving[0];
+  const Particle& back = out[ps.size() - region.moving.size()];  // the moved ones come last
+  CHECK(back.position.x == doctest::Approx(ps[first].position.x + 0.01));
+  CHECK(back.position.y == doctest::Approx(ps[first].position.y));
+  CHECK(out[0].position.x == ps[0].position.x);  // the first sphere is far: as it was
+  for (const Particle& p : out) CHECK(length(p.velocity) == 0);
+  for (const Particle& p : out) CHECK(length(p.position - Vec3(9, 9, 9)) > 1);  // the held one as it was
+  for (const Particle& p : out) CHECK(length(p.position - ps[region.moving[1]].position) > 1e-9);  // gone
 }
 
 TEST_CASE("finish: a held sphere (as good as infinite mass) stays put while its neighbour relaxes away from it") {

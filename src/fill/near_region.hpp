@@ -27,9 +27,11 @@ NearRegion region_near(const std::vector<Particle>& particles, const std::vector
 std::vector<Particle> region_particles(const std::vector<Particle>& particles, const NearRegion& region,
                                        double held_mass);
 
-/// `particles` after the region's relaxation: each moving one where `moved`
-/// (region_particles' after the relaxation) has it, gone where `moved` has
-/// it not (the wall took it), the rest as they were; every velocity 0.
+/// `particles` after the region's relaxation: the others as they were, in
+/// their order, then the moving ones that `moved` (region_particles'
+/// spheres, relaxed) still holds, with all but their new positions from
+/// `particles` (one missing from `moved`, which the wall took, is gone);
+/// every velocity 0.
 std::vector<Particle> with_moved(std::vector<Particle> particles, const NearRegion& region,
                                  const std::vector<Particle>& moved);
 
