@@ -47,6 +47,7 @@ std::vector<StepRecord> reduce_history(const LammpsSession& lmp, const std::vect
     r.particles = static_cast<uint32_t>(sums[4 * s + 3]);
     r.max_speed = maxes[2 * s];
     r.max_displacement = maxes[2 * s + 1];
+    r.power = local[s].power;  // FIRE's P, over every rank already
   }
   return out;
 }

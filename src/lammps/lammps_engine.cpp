@@ -148,6 +148,7 @@ class LammpsEngine final : public ParticleEngine {
 
   std::vector<StepRecord> read_history() override {
     flush();
+    step_.fire().take_in_flight(steps_);  // as the OpenCL engine's finalize_history
     std::vector<StepRecord> out = lammps_engine::reduce_history(*lmp_, step_.take_history(), history_first_);
     history_first_ += out.size();
     return out;
@@ -160,7 +161,10 @@ class LammpsEngine final : public ParticleEngine {
 
   std::vector<size_t> sort_by_cells() override {
     // LAMMPS keeps its own atoms in spatial order (atom_modify sort); the
-    // engine's indices are its own and stay.
+    // engine's indices are its own and stay. FIRE's records in flight are
+    // taken in, as the OpenCL engine finishes its steps in flight to sort.
+    flush();
+    step_.fire().take_in_flight(steps_);
     std::vector<size_t> order(book_.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     return order;
@@ -185,6 +189,17 @@ class LammpsEngine final : public ParticleEngine {
     if (lmp_->ranks() > 1 && !counts.empty())
       MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT, MPI_SUM, lmp_->comm());
   }
+  /// FIRE (fire_minimiser.hpp): afresh at the next step, on every rank alike.
+  void restart_minimiser() override {
+    flush();
+    step_.fire().restart(steps_);
+  }
+  MinimiserState minimiser_state() override {
+    flush();
+    step_.fire().take_in_flight(steps_);
+    return step_.fire().state();
+  }
+
   size_t size() const override { return book_.size(); }
   uint64_t steps_done() const override { return steps_ + pending_; }
 

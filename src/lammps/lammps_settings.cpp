@@ -74,8 +74,6 @@ EngineConstants checked_constants(const EngineParams& params) {
   if (!(a == 12 && b == 6) && !(a > b && b > 0)) throw Error("lammps engine: exponents must satisfy a > b > 0");
   if (params.force_cap > 0)
     throw Error("lammps engine: a pair force cap (force_cap) is not available on LAMMPS; leave it 0");
-  if (params.fire.on)
-    throw Error("lammps engine: FIRE (fire.on) runs on the OpenCL engine only; the finish relaxes by damping here");
   return constants;
 }
 
