@@ -239,13 +239,13 @@ class FillRun {
                                result_.stop_signal == to_string(StopCriterion::Collisions)))
       s.compress_clearance = kCompressClearance * o_.rest_distance;
     s.fit_clearance = 2 * o_.rest_distance;
-    // FIRE runs on the OpenCL engine (on LAMMPS the finish relaxes by
-    // damping), for equal spheres, and not while compressing: it made room
+    // FIRE runs on the OpenCL engine and on LAMMPS (finish_on_engine), for
+    // equal spheres, and not while compressing: it made room
     // so well that the bunny's compression ran all 30 rounds, and a
     // lognormal mix of radii ran out of rounds too (docs/finish.md, FIRE);
     // with each pair's energy by its volume (eps q^3) FIRE still ends
     // below the damped relaxation for mixtures (docs/polydisperse.md).
-    s.fire = device_ != nullptr && s.compress_clearance == 0 && !plan_.sizes;
+    s.fire = (device_ != nullptr || o_.finish_on_engine) && s.compress_clearance == 0 && !plan_.sizes;
     s.first_id = next_id_;
     s.cancelled = o_.cancelled;
     return s;

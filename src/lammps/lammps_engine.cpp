@@ -4,10 +4,11 @@
 // migration of atoms between ranks and the potential's pair forces (lj/cut,
 // or mie/cut, cut at the potential's minimum for the repulsive default);
 // pfill's own step rules run in a `fix external pf/callback` on each rank's
-// own atoms (step_callback.hpp). This file ties together the LAMMPS
-// instance (lammps_session.hpp), the engine's indices (particle_book.hpp)
-// and that callback: the box and the settings handed to LAMMPS, births,
-// removals, runs, reads.
+// own atoms (step_callback.hpp). This file is the engine class: it ties
+// together the LAMMPS instance (lammps_session.hpp), the settings handed
+// to it (lammps_settings.hpp), the engine's indices (particle_book.hpp),
+// that callback and the reads over ranks (engine_reads.hpp): births,
+// removals, runs.
 //
 // SPMD: every rank makes the same calls with the same arguments (the fill's
 // host loop runs on every rank), so the engine's bookkeeping of indices and
@@ -17,20 +18,18 @@
 // room test sees only this rank's atoms and a halo (birth_view).
 #ifdef PFILL_WITH_LAMMPS
 #include <algorithm>
-#include <cmath>
-#include <cstdio>
 #include <functional>
 #include <memory>
-#include <sstream>
 #include <string>
 #include <unordered_map>
-#include <unordered_set>
 #include <utility>
 #include <vector>
 
 #include "lammps/birth_halo.hpp"
 #include "lammps/birth_tally.hpp"
+#include "lammps/engine_reads.hpp"
 #include "lammps/lammps_session.hpp"
+#include "lammps/lammps_settings.hpp"
 #include "lammps/new_atoms.hpp"
 #include "lammps/particle_book.hpp"
 #include "lammps/step_callback.hpp"
@@ -41,29 +40,15 @@ namespace pfill {
 namespace {
 
 using lammps_engine::LammpsSession;
-using lammps_engine::LocalRecord;
 using lammps_engine::num;
 using lammps_engine::ParticleBook;
 using lammps_engine::StepCallback;
-
-/// The engine's constants; then refuses, in one line and before LAMMPS is
-/// started, what LAMMPS cannot run as pfill's engine does.
-EngineConstants checked_constants(const EngineParams& params) {
-  EngineConstants constants = derive_constants(params);
-  const double a = params.exponent_a, b = params.exponent_b;
-  if (!(a == 12 && b == 6) && !(a > b && b > 0)) throw Error("lammps engine: exponents must satisfy a > b > 0");
-  if (params.force_cap > 0)
-    throw Error("lammps engine: a pair force cap (force_cap) is not available on LAMMPS; leave it 0");
-  if (params.fire.on)
-    throw Error("lammps engine: FIRE (fire.on) runs on the OpenCL engine only; the finish relaxes by damping here");
-  return constants;
-}
 
 class LammpsEngine final : public ParticleEngine {
  public:
   explicit LammpsEngine(const EngineParams& params)
       : params_(params),
-        constants_(checked_constants(params)),
+        constants_(lammps_engine::checked_constants(params)),
         lmp_(std::make_unique<LammpsSession>()),
         step_(params_, constants_, *lmp_) {
     if (!params_.domain.empty()) make_box(params_.domain);
@@ -163,76 +148,23 @@ class LammpsEngine final : public ParticleEngine {
 
   std::vector<StepRecord> read_history() override {
     flush();
-    const std::vector<LocalRecord> local = step_.take_history();
-    const size_t n = local.size();
-    std::vector<double> sums(4 * n), maxes(2 * n);
-    for (size_t s = 0; s < n; ++s) {
-      const LocalRecord& r = local[s];
-      sums[4 * s] = r.kinetic_energy, sums[4 * s + 1] = r.colliding_pairs, sums[4 * s + 2] = r.flagged,
-               sums[4 * s + 3] = r.particles;
-      maxes[2 * s] = r.max_speed, maxes[2 * s + 1] = r.max_displacement;
-    }
-    if (lmp_->ranks() > 1 && n > 0) {
-      MPI_Allreduce(MPI_IN_PLACE, sums.data(), static_cast<int>(sums.size()), MPI_DOUBLE, MPI_SUM, lmp_->comm());
-      MPI_Allreduce(MPI_IN_PLACE, maxes.data(), static_cast<int>(maxes.size()), MPI_DOUBLE, MPI_MAX, lmp_->comm());
-    }
-    std::vector<StepRecord> out(n);
-    for (size_t s = 0; s < n; ++s) {
-      StepRecord& r = out[s];
-      r.step = history_first_ + s;
-      r.kinetic_energy = sums[4 * s];
-      r.colliding_pairs = static_cast<uint32_t>(sums[4 * s + 1]);
-      r.flagged = static_cast<uint32_t>(sums[4 * s + 2]);
-      r.particles = static_cast<uint32_t>(sums[4 * s + 3]);
-      r.max_speed = maxes[2 * s];
-      r.max_displacement = maxes[2 * s + 1];
-    }
-    history_first_ += n;
+    step_.fire().take_in_flight(steps_);  // as the OpenCL engine's finalize_history
+    std::vector<StepRecord> out = lammps_engine::reduce_history(*lmp_, step_.take_history(), history_first_);
+    history_first_ += out.size();
     return out;
   }
 
   std::vector<Particle> read_particles() override {
     flush();
-    // Each rank's own atoms: tag, x, v, radius, mass (8 doubles each), gathered on every rank.
-    const int nl = lmp_->nlocal();
-    int* tag = lmp_->atoms<int*>("id");
-    double** x = lmp_->atoms<double**>("x");
-    double** v = lmp_->atoms<double**>("v");
-    double* radius = lmp_->atoms<double*>("radius");
-    std::vector<double> mine(8 * static_cast<size_t>(nl));
-    for (int i = 0; i < nl; ++i) {
-      double* m = &mine[8 * static_cast<size_t>(i)];
-      m[0] = tag[i], m[1] = x[i][0], m[2] = x[i][1], m[3] = x[i][2];
-      m[4] = v[i][0], m[5] = v[i][1], m[6] = v[i][2], m[7] = radius[i];
-    }
-    std::vector<double> all = lmp_->gather(mine);
-    std::vector<Particle> out(book_.size());
-    std::vector<bool> seen(book_.size(), false);
-    for (size_t k = 0; k + 7 < all.size(); k += 8) {
-      const size_t index = book_.index_of(static_cast<int>(all[k]));
-      if (index == book_.size()) continue;
-      Particle& p = out[index];
-      p.position = {all[k + 1], all[k + 2], all[k + 3]};
-      p.velocity = {all[k + 4], all[k + 5], all[k + 6]};
-      p.radius = all[k + 7];
-      p.mass = particle_mass(params_, p.radius);
-      seen[index] = true;
-    }
-    for (size_t i = 0; i < out.size(); ++i) {
-      out[i].id = book_.id(i);
-      if (!seen[i]) {  // lost by LAMMPS (left its box): flagged, to be removed
-        book_.lost().insert(book_.tag(i));
-        out[i].position = box_.centre();
-        out[i].radius = params_.radius;
-        out[i].mass = 1;
-      }
-    }
-    return out;
+    return lammps_engine::gather_particles(*lmp_, book_, params_, box_.centre());
   }
 
   std::vector<size_t> sort_by_cells() override {
     // LAMMPS keeps its own atoms in spatial order (atom_modify sort); the
-    // engine's indices are its own and stay.
+    // engine's indices are its own and stay. FIRE's records in flight are
+    // taken in, as the OpenCL engine finishes its steps in flight to sort.
+    flush();
+    step_.fire().take_in_flight(steps_);
     std::vector<size_t> order(book_.size());
     for (size_t i = 0; i < order.size(); ++i) order[i] = i;
     return order;
@@ -240,19 +172,7 @@ class LammpsEngine final : public ParticleEngine {
 
   std::vector<size_t> flagged_particles() override {
     flush();
-    if (static_cast<double>(book_.size()) != lmp_->natoms()) find_lost();
-    const std::unordered_set<int>& flagged = step_.flagged_tags();
-    std::vector<double> mine(flagged.begin(), flagged.end());
-    std::vector<double> all = lmp_->gather(mine);
-    for (int t : book_.lost()) all.push_back(t);  // the same on every rank
-    std::vector<size_t> out;
-    for (double t : all) {
-      const size_t index = book_.index_of(static_cast<int>(t));
-      if (index != book_.size()) out.push_back(index);
-    }
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-    return out;
+    return lammps_engine::gather_flagged(*lmp_, book_, step_.flagged_tags());
   }
 
   void clear_flags() override { step_.flagged_tags().clear(); }
@@ -269,92 +189,32 @@ class LammpsEngine final : public ParticleEngine {
     if (lmp_->ranks() > 1 && !counts.empty())
       MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT, MPI_SUM, lmp_->comm());
   }
+  /// FIRE (fire_minimiser.hpp): afresh at the next step, on every rank alike.
+  void restart_minimiser() override {
+    flush();
+    step_.fire().restart(steps_);
+  }
+  MinimiserState minimiser_state() override {
+    flush();
+    step_.fire().take_in_flight(steps_);
+    return step_.fire().state();
+  }
+
   size_t size() const override { return book_.size(); }
   uint64_t steps_done() const override { return steps_ + pending_; }
 
  private:
-  /// The box LAMMPS decomposes: the field's box (or the given one) and a
-  /// margin; then the potential, the lists and the callback's fix.
+  /// The box LAMMPS decomposes, the potential, the lists and the
+  /// callback's fix (lammps_settings.hpp).
   void make_box(const Box3& inner) {
-    const EngineConstants& c = constants_;
-    const double in_lo[3] = {inner.lo.x, inner.lo.y, inner.lo.z}, in_hi[3] = {inner.hi.x, inner.hi.y, inner.hi.z};
-    for (int a = 0; a < 3; ++a)
-      if (!std::isfinite(in_lo[a]) || !std::isfinite(in_hi[a]) || in_lo[a] > in_hi[a])
-        throw Error("lammps engine: the domain " + num(in_lo[0]) + "," + num(in_lo[1]) + "," + num(in_lo[2]) +
-                    " to " + num(in_hi[0]) + "," + num(in_hi[1]) + "," + num(in_hi[2]) +
-                    " is not a box (finite, lo <= hi on each axis)");
-    const Vec3 s = inner.size();
-    const double margin = 2 * c.list_reach + 1e-3 * std::max({s.x, s.y, s.z});
-    const Vec3 lo = inner.lo - Vec3{margin, margin, margin}, hi = inner.hi + Vec3{margin, margin, margin};
-    box_ = Box3{lo, hi};
-    // Atoms are clamped a little inside the box (LAMMPS drops atoms on or past a fixed boundary).
-    const double in = 0.25 * margin;
-    lo_[0] = lo.x + in, lo_[1] = lo.y + in, lo_[2] = lo.z + in;
-    hi_[0] = hi.x - in, hi_[1] = hi.y - in, hi_[2] = hi.z - in;
+    const lammps_engine::BoxSettings b = lammps_engine::set_up_box(*lmp_, params_, constants_, inner, "pf_step");
+    box_ = b.box;
+    for (int a = 0; a < 3; ++a) lo_[a] = b.lo[a], hi_[a] = b.hi[a];
     step_.set_clamp(lo_, hi_);
-    const double rc = c.cutoff;
-    const double a = params_.exponent_a, b = params_.exponent_b;
-    std::ostringstream cmd;
-    cmd.precision(17);
-    cmd << "units lj\natom_style sphere\natom_modify map hash\nboundary f f f\ncomm_modify vel yes\n"
-        << "newton off\n"
-        << "region pf_box block " << lo.x << " " << hi.x << " " << lo.y << " " << hi.y << " " << lo.z << " " << hi.z
-        << "\ncreate_box 1 pf_box\n";
-    // The potential: 4 eps [(sigma/d)^a - (sigma/d)^b], cut at rc (the
-    // minimum for the purely repulsive default), shifted to 0 there.
-    std::string pair, coeff, style;
-    if (a == 12 && b == 6) {
-      pair = "lj/cut " + num(rc);
-      coeff = "lj/cut " + num(params_.eps) + " " + num(c.sigma) + " " + num(rc);
-      style = "lj/cut";
-    } else {
-      if (!lammps_has_style(lmp_->handle(), "pair", "mie/cut"))
-        throw Error("lammps engine: exponents other than 12,6 need LAMMPS' mie/cut pair style, which this LAMMPS lacks");
-      // mie/cut: C eps' [(s/d)^a - (s/d)^b], C = a/(a-b) (a/b)^(b/(a-b)); pfill's prefactor is 4 eps.
-      const double cm = a / (a - b) * std::pow(a / b, b / (a - b));
-      pair = "mie/cut " + num(rc);
-      coeff = "mie/cut " + num(4 * params_.eps / cm) + " " + num(c.sigma) + " " + num(a) + " " + num(b) + " " + num(rc);
-      style = "mie/cut";
-    }
-    step_.set_pair_style(style);
-    pair_line_ = style;
-    // The contact dashpot is pfill's own (the callback, over this pair
-    // style's list): with `newton off` a pair across ranks is listed on
-    // both, so each rank can apply it to its own atom without a reverse
-    // communication.
-    cmd << "pair_style " << pair << "\npair_coeff * * " << coeff.substr(coeff.find(' ') + 1) << "\n";
-    pair_line_ += " + pfill's contact dashpot in the callback";
-    cmd << "pair_modify shift yes\n";
-    const double skin = (params_.skin_sigma > 0 ? params_.skin_sigma : kCpuFormSkinSigma) * c.sigma;
-    refuse_too_many_bins(hi - lo, rc + skin);
-    cmd << "neighbor " << num(skin) << " bin\nneigh_modify delay 0 every 1 check yes\n"
-        << "fix pf_step all external pf/callback 1 1\n"
-        << "timestep " << num(c.dt) << "\n"
-        << "thermo_style custom step\nthermo 0\nthermo_modify lost ignore norm no\n";
-    pair_line_ += ", skin " + num(skin / c.sigma) + " sigma";
-    lmp_->commands(cmd.str());
+    step_.set_pair_style(b.pair_style);
+    pair_line_ = b.describe;
     step_.install("pf_step");
     box_made_ = true;
-  }
-
-  /// LAMMPS bins each rank's sub-domain (and its ghost shell) for the
-  /// lists at half the list's reach, and stops the program past 2^31 - 1
-  /// bins on a rank ("Too many neighbor bins", unseen under -screen none).
-  /// The sub-domains tile the box, so some rank has at least the box's
-  /// bins over P: past the limit, that rank would stop. Refused here in one
-  /// line instead (a box far larger than the spheres: about 3e8 spheres in
-  /// a mesh's box at P = 1).
-  void refuse_too_many_bins(const Vec3& size, double reach) const {
-    const double bin = 0.5 * reach;
-    const double bins = std::floor(size.x / bin) * std::floor(size.y / bin) * std::floor(size.z / bin);
-    const double per_rank = bins / lmp_->ranks();
-    if (per_rank > 2147483647.0) {
-      char b[64];
-      std::snprintf(b, sizeof b, "%.3g", per_rank);
-      throw Error("lammps engine: the box would need " + std::string(b) +
-                  " neighbour-list bins a rank, past LAMMPS' limit of 2^31 - 1; use more MPI ranks, or larger "
-                  "spheres (fewer of them) for this mesh");
-    }
   }
 
   void field_changed(const ScalarGrid& f) {
@@ -428,18 +288,6 @@ class LammpsEngine final : public ParticleEngine {
     return p.x >= lo_[0] && p.y >= lo_[1] && p.z >= lo_[2] && p.x <= hi_[0] && p.y <= hi_[1] && p.z <= hi_[2];
   }
 
-  /// Atoms LAMMPS dropped (past its box): the engine's tags it no longer has.
-  void find_lost() {
-    const int nl = lmp_->nlocal();
-    int* tag = lmp_->atoms<int*>("id");
-    std::vector<double> mine(tag, tag + nl);
-    std::vector<double> all = lmp_->gather(mine);
-    std::unordered_map<int, bool> present;
-    for (double t : all) present[static_cast<int>(t)] = true;
-    for (int t : book_.tags())
-      if (!present.count(t)) book_.lost().insert(t);
-  }
-
   EngineParams params_;
   EngineConstants constants_;
   std::unique_ptr<LammpsSession> lmp_;
@@ -457,26 +305,6 @@ class LammpsEngine final : public ParticleEngine {
 };
 
 }  // namespace
-
-bool lammps_available() { return true; }
-
-MpiWorld lammps_mpi_start() {
-  lammps_engine::ensure_mpi();
-  MpiWorld w;
-  MPI_Comm_rank(MPI_COMM_WORLD, &w.rank);
-  MPI_Comm_size(MPI_COMM_WORLD, &w.size);
-  return w;
-}
-
-void lammps_mpi_abort(int code) {
-  int initialized = 0, finalized = 0;
-  MPI_Initialized(&initialized);
-  MPI_Finalized(&finalized);
-  if (!initialized || finalized) return;
-  int size = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &size);
-  if (size > 1) MPI_Abort(MPI_COMM_WORLD, code);
-}
 
 std::unique_ptr<ParticleEngine> make_lammps_engine(const EngineParams& params) {
   return std::make_unique<LammpsEngine>(params);

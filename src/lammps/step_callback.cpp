@@ -62,40 +62,28 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   LocalRecord rec;
   rec.particles = nlocal;
   rec.colliding_pairs = contacts(nlocal, x, v, radius, rmass);
-  const ScalarGrid* field = field_;
+  // LAMMPS' step `step` is the engine's step step - 1 (the first run's first is 1).
+  const uint64_t index = static_cast<uint64_t>(step) - 1;
+  const bool fire = fire_.on(), restart = fire_.restarts_at(index);
+  // FIRE: a step's move stays within the cap, whatever its dt (the kernels' PF_STEP_CAP / dt).
+  const double fire_cap = fire ? c.max_speed * c.dt / fire_.dt() : 0;
+  double power = 0;  // FIRE: sum F.v over this rank's atoms at the step's start
   for (int i = 0; i < nlocal; ++i) {
     double u[3] = {v[i][0], v[i][1], v[i][2]};
     double p[3] = {x[i][0], x[i][1], x[i][2]};
     const double p0[3] = {p[0], p[1], p[2]};
     const double* fd = &dashpot_[3 * static_cast<size_t>(i)];
-    physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], f[i][0] + fd[0], f[i][1] + fd[1],
-                           f[i][2] + fd[2], 1 / rmass[i], c.dt, c.damping_factor, c.max_speed);
-    // omega[i][0] (rotation is not integrated) keeps a bound on the
-    // field's value at the atom: its last sample plus the field's slope
-    // times the moves since. While that bound says the sphere cannot reach
-    // the wall, the field is not read (at N = 16,000 on 1 rank, reading it
-    // for every atom was half of a step: cache misses in a 57 MiB grid);
-    // the result is the same, as the push and the flag need phi > -r.
-    const double moved_bound = omega[i][0] + lipschitz_ * std::sqrt((p[0] - p0[0]) * (p[0] - p0[0]) +
-                                                                   (p[1] - p0[1]) * (p[1] - p0[1]) +
-                                                                   (p[2] - p0[2]) * (p[2] - p0[2]));
-    if (field && moved_bound < -radius[i]) {
-      omega[i][0] = moved_bound;
-    } else if (field) {
-      double g[3];
-      const double phi = physics::sample(*field, p[0], p[1], p[2], g);
-      const double gx = (p[0] - field->origin.x) / field->spacing, gy = (p[1] - field->origin.y) / field->spacing,
-                   gz = (p[2] - field->origin.z) / field->spacing;
-      const bool outside_box = gx < 0 || gy < 0 || gz < 0 || gx > field->dims[0] - 1 || gy > field->dims[1] - 1 ||
-                               gz > field->dims[2] - 1;
-      if (phi > 0 || outside_box) {
-        ++rec.flagged;
-        flagged_tags_.insert(tags[i]);
-      }
-      const double after = physics::wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius[i],
-                                              radius[i], params_.wall_restitution, *field);
-      omega[i][0] = after;
+    const double F[3] = {f[i][0] + fd[0], f[i][1] + fd[1], f[i][2] + fd[2]};
+    if (fire) {
+      double pi = 0;
+      physics::pf_fire_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], F[0], F[1], F[2], 1 / rmass[i],
+                                  fire_.dt(), fire_.alpha(), restart, fire_.backtrack(), fire_cap, &pi);
+      power += pi;
+    } else {
+      physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], F[0], F[1], F[2], 1 / rmass[i], c.dt,
+                             c.damping_factor, c.max_speed);
     }
+    if (field_) wall(tags[i], p, p0, u, radius[i], omega[i][0], rec);
     // Never past the box (LAMMPS would lose the atom): the wall brings it back.
     for (int a = 0; a < 3; ++a) p[a] = std::min(std::max(p[a], lo_[a]), hi_[a]);
     x[i][0] = p[0], x[i][1] = p[1], x[i][2] = p[2];
@@ -105,7 +93,39 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
     const double d[3] = {p[0] - p0[0], p[1] - p0[1], p[2] - p0[2]};
     rec.max_displacement = std::max(rec.max_displacement, std::sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]));
   }
+  // Every rank, every step (collective under FIRE): P over all atoms, the state's next.
+  rec.power = fire_.end_step(index, power);
   local_history_.push_back(rec);
+}
+
+void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double& omega,
+                        LocalRecord& rec) {
+  const ScalarGrid& field = *field_;
+  // omega[i][0] (rotation is not integrated) keeps a bound on the
+  // field's value at the atom: its last sample plus the field's slope
+  // times the moves since. While that bound says the sphere cannot reach
+  // the wall, the field is not read (at N = 16,000 on 1 rank, reading it
+  // for every atom was half of a step: cache misses in a 57 MiB grid);
+  // the result is the same, as the push and the flag need phi > -r.
+  const double moved_bound = omega + lipschitz_ * std::sqrt((p[0] - p0[0]) * (p[0] - p0[0]) +
+                                                            (p[1] - p0[1]) * (p[1] - p0[1]) +
+                                                            (p[2] - p0[2]) * (p[2] - p0[2]));
+  if (moved_bound < -radius) {
+    omega = moved_bound;
+    return;
+  }
+  double g[3];
+  const double phi = physics::sample(field, p[0], p[1], p[2], g);
+  const double gx = (p[0] - field.origin.x) / field.spacing, gy = (p[1] - field.origin.y) / field.spacing,
+               gz = (p[2] - field.origin.z) / field.spacing;
+  const bool outside_box =
+      gx < 0 || gy < 0 || gz < 0 || gx > field.dims[0] - 1 || gy > field.dims[1] - 1 || gz > field.dims[2] - 1;
+  if (phi > 0 || outside_box) {
+    ++rec.flagged;
+    flagged_tags_.insert(tag);
+  }
+  omega = physics::wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius, radius,
+                             params_.wall_restitution, field);
 }
 
 /// Over this rank's pair list (the pair style's, `newton off`: a pair

@@ -3,8 +3,9 @@
 // post_force with LAMMPS' pair forces of the step in atom->f, runs pfill's
 // own rules (kernels/physics.cl in double precision) on this rank's atoms:
 // the contact dashpot over the pair style's neighbour list, the kick and
-// drift with the damping and the speed cap, the wall's push from the signed
-// distance field, and the per-step records of this rank.
+// drift with the damping and the speed cap (or FIRE's step:
+// fire_minimiser.hpp), the wall's push from the signed distance field, and
+// the per-step records of this rank.
 #pragma once
 #ifdef PFILL_WITH_LAMMPS
 #include <cstdint>
@@ -12,6 +13,7 @@
 #include <unordered_set>
 #include <vector>
 
+#include "lammps/fire_minimiser.hpp"
 #include "lammps/lammps_session.hpp"
 #include "pfill/engine/params.hpp"
 #include "pfill/grid.hpp"
@@ -19,16 +21,18 @@
 namespace pfill {
 namespace lammps_engine {
 
-/// The per-step scalars of one rank, reduced over ranks when read.
+/// The per-step scalars of one rank, reduced over ranks when read;
+/// `power` (FIRE) is already over every rank, the same on each.
 struct LocalRecord {
   double kinetic_energy = 0, max_speed = 0, max_displacement = 0;
   double colliding_pairs = 0, flagged = 0, particles = 0;
+  double power = 0;
 };
 
 class StepCallback {
  public:
   StepCallback(const EngineParams& params, const EngineConstants& constants, LammpsSession& session)
-      : params_(params), constants_(constants), session_(session) {}
+      : params_(params), constants_(constants), session_(session), fire_(params, constants, session) {}
   StepCallback(const StepCallback&) = delete;
   StepCallback& operator=(const StepCallback&) = delete;
 
@@ -49,11 +53,16 @@ class StepCallback {
   std::vector<LocalRecord> take_history();
   /// This rank's atoms flagged outside since they were last cleared.
   std::unordered_set<int>& flagged_tags() { return flagged_tags_; }
+  /// FIRE's state (EngineParams::fire; off without it), the same on every rank.
+  FireMinimiser& fire() { return fire_; }
 
   void on_step(int64_t step, int nlocal, int* tags, double** x, double** fext);
 
  private:
   double contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass);
+  /// The wall on atom i at p (moved from p0, velocity u): the push, the
+  /// flag, and omega's bound on the field there.
+  void wall(int tag, double* p, const double* p0, double* u, double radius, double& omega, LocalRecord& rec);
 
   const EngineParams& params_;
   const EngineConstants& constants_;
@@ -66,6 +75,7 @@ class StepCallback {
   std::vector<LocalRecord> local_history_;
   std::vector<double> dashpot_;           // the contact dashpot's force on each of this rank's atoms, this step
   std::unordered_set<int> flagged_tags_;  // this rank's atoms flagged outside since clear_flags
+  FireMinimiser fire_;
 };
 
 }  // namespace lammps_engine

@@ -1,0 +1,116 @@
+// The settings handed to LAMMPS: see lammps_settings.hpp.
+#ifdef PFILL_WITH_LAMMPS
+#include "lammps/lammps_settings.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "pfill/error.hpp"
+
+namespace pfill {
+namespace lammps_engine {
+namespace {
+
+/// LAMMPS bins each rank's sub-domain (and its ghost shell) for the
+/// lists at half the list's reach, and stops the program past 2^31 - 1
+/// bins on a rank ("Too many neighbor bins", unseen under -screen none).
+/// The sub-domains tile the box, so some rank has at least the box's
+/// bins over P: past the limit, that rank would stop. Refused here in one
+/// line instead (a box far larger than the spheres: about 3e8 spheres in
+/// a mesh's box at P = 1).
+void refuse_too_many_bins(const Vec3& size, double reach, int ranks) {
+  const double bin = 0.5 * reach;
+  const double bins = std::floor(size.x / bin) * std::floor(size.y / bin) * std::floor(size.z / bin);
+  const double per_rank = bins / ranks;
+  if (per_rank > 2147483647.0) {
+    char b[64];
+    std::snprintf(b, sizeof b, "%.3g", per_rank);
+    throw Error("lammps engine: the box would need " + std::string(b) +
+                " neighbour-list bins a rank, past LAMMPS' limit of 2^31 - 1; use more MPI ranks, or larger "
+                "spheres (fewer of them) for this mesh");
+  }
+}
+
+void refuse_no_box(const Box3& inner) {
+  const double in_lo[3] = {inner.lo.x, inner.lo.y, inner.lo.z}, in_hi[3] = {inner.hi.x, inner.hi.y, inner.hi.z};
+  for (int a = 0; a < 3; ++a)
+    if (!std::isfinite(in_lo[a]) || !std::isfinite(in_hi[a]) || in_lo[a] > in_hi[a])
+      throw Error("lammps engine: the domain " + num(in_lo[0]) + "," + num(in_lo[1]) + "," + num(in_lo[2]) +
+                  " to " + num(in_hi[0]) + "," + num(in_hi[1]) + "," + num(in_hi[2]) +
+                  " is not a box (finite, lo <= hi on each axis)");
+}
+
+/// The potential: 4 eps [(sigma/d)^a - (sigma/d)^b], cut at rc (the
+/// minimum for the purely repulsive default), shifted to 0 there, as
+/// `pair_style` and `pair_coeff` lines; its style's name into `style`.
+std::string pair_commands(LammpsSession& lmp, const EngineParams& params, const EngineConstants& c,
+                          std::string& style) {
+  const double rc = c.cutoff;
+  const double a = params.exponent_a, b = params.exponent_b;
+  std::string pair, coeff;
+  if (a == 12 && b == 6) {
+    style = "lj/cut";
+    pair = "lj/cut " + num(rc);
+    coeff = num(params.eps) + " " + num(c.sigma) + " " + num(rc);
+  } else {
+    if (!lammps_has_style(lmp.handle(), "pair", "mie/cut"))
+      throw Error("lammps engine: exponents other than 12,6 need LAMMPS' mie/cut pair style, which this LAMMPS lacks");
+    // mie/cut: C eps' [(s/d)^a - (s/d)^b], C = a/(a-b) (a/b)^(b/(a-b)); pfill's prefactor is 4 eps.
+    const double cm = a / (a - b) * std::pow(a / b, b / (a - b));
+    style = "mie/cut";
+    pair = "mie/cut " + num(rc);
+    coeff = num(4 * params.eps / cm) + " " + num(c.sigma) + " " + num(a) + " " + num(b) + " " + num(rc);
+  }
+  return "pair_style " + pair + "\npair_coeff * * " + coeff + "\npair_modify shift yes\n";
+}
+
+}  // namespace
+
+EngineConstants checked_constants(const EngineParams& params) {
+  EngineConstants constants = derive_constants(params);
+  const double a = params.exponent_a, b = params.exponent_b;
+  if (!(a == 12 && b == 6) && !(a > b && b > 0)) throw Error("lammps engine: exponents must satisfy a > b > 0");
+  if (params.force_cap > 0)
+    throw Error("lammps engine: a pair force cap (force_cap) is not available on LAMMPS; leave it 0");
+  return constants;
+}
+
+BoxSettings set_up_box(LammpsSession& lmp, const EngineParams& params, const EngineConstants& c, const Box3& inner,
+                       const char* fix_id) {
+  refuse_no_box(inner);
+  const Vec3 s = inner.size();
+  const double margin = 2 * c.list_reach + 1e-3 * std::max({s.x, s.y, s.z});
+  const Vec3 lo = inner.lo - Vec3{margin, margin, margin}, hi = inner.hi + Vec3{margin, margin, margin};
+  BoxSettings out;
+  out.box = Box3{lo, hi};
+  // Atoms are clamped a little inside the box (LAMMPS drops atoms on or past a fixed boundary).
+  const double in = 0.25 * margin;
+  out.lo[0] = lo.x + in, out.lo[1] = lo.y + in, out.lo[2] = lo.z + in;
+  out.hi[0] = hi.x - in, out.hi[1] = hi.y - in, out.hi[2] = hi.z - in;
+  std::ostringstream cmd;
+  cmd.precision(17);
+  cmd << "units lj\natom_style sphere\natom_modify map hash\nboundary f f f\ncomm_modify vel yes\n"
+      << "newton off\n"
+      << "region pf_box block " << lo.x << " " << hi.x << " " << lo.y << " " << hi.y << " " << lo.z << " " << hi.z
+      << "\ncreate_box 1 pf_box\n";
+  // The contact dashpot is pfill's own (the callback, over this pair
+  // style's list): with `newton off` a pair across ranks is listed on
+  // both, so each rank can apply it to its own atom without a reverse
+  // communication.
+  cmd << pair_commands(lmp, params, c, out.pair_style);
+  const double skin = (params.skin_sigma > 0 ? params.skin_sigma : kCpuFormSkinSigma) * c.sigma;
+  refuse_too_many_bins(hi - lo, c.cutoff + skin, lmp.ranks());
+  cmd << "neighbor " << num(skin) << " bin\nneigh_modify delay 0 every 1 check yes\n"
+      << "fix " << fix_id << " all external pf/callback 1 1\n"
+      << "timestep " << num(c.dt) << "\n"
+      << "thermo_style custom step\nthermo 0\nthermo_modify lost ignore norm no\n";
+  out.describe = out.pair_style + " + pfill's contact dashpot in the callback, skin " + num(skin / c.sigma) + " sigma";
+  lmp.commands(cmd.str());
+  return out;
+}
+
+}  // namespace lammps_engine
+}  // namespace pfill
+#endif
