@@ -31,9 +31,9 @@ struct FinishSettings {
   double max_overlap = 0.001;   ///< bound on every pair's overlap, fraction of r
   double inflation = std::nan("");  ///< contact distance while relaxing: 2r (1 + inflation); NaN: automatic (finish_inflation)
   double time_step = 0.03;      ///< damped relaxation's step, in tau of the inflated potential
-  /// The relaxation's integrator: FIRE (EngineParams::fire; the OpenCL
-  /// engine and the reference), or, false, damped dynamics (`damping`; the
-  /// LAMMPS engine, which has no FIRE).
+  /// The relaxation's integrator: FIRE (EngineParams::fire; every engine
+  /// runs it), or, false, damped dynamics (`damping`; the fill uses it
+  /// while compressing and for unequal spheres).
   bool fire = true;
   /// FIRE's first step, in tau, and its largest, in units of the first:
   /// 0.08 tau at most (from a first step of 0.03 tau the stiff cores of

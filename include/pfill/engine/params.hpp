@@ -30,8 +30,9 @@ struct DeviceInfo;
 /// pf_fire_next): each step the particles move by semi-implicit Euler with
 /// the state's step, their velocities turned towards their forces by the
 /// share alpha; dt grows while the power P = sum F.v stays positive and
-/// every velocity is dropped when it is not. The OpenCL engine and the
-/// reference run it; the LAMMPS engine does not (it refuses it).
+/// every velocity is dropped when it is not. The OpenCL engine, the
+/// reference and the LAMMPS engine (src/lammps/fire_minimiser.hpp, P
+/// summed over the ranks each step) run it.
 struct FireParams {
   bool on = false;            ///< FIRE instead of leapfrog with damping (then no damping: `damping` must be 0)
   double dt_max = 4;          ///< largest step, in units of PhysicsParams::dt (the first step)
