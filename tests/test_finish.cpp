@@ -298,6 +298,7 @@ TEST_CASE("finish: the last jams relaxed on their own meet the bound as relaxing
   s.near_share = 0;
   const ParticleSet by_all = finish_packing(shared_device(), base_params(), ball_field(), ps, s, all);
   s.near_share = 1;
+  s.near_min_spheres = 0;
   s.near_reach = 3;
   const ParticleSet by_near = finish_packing(shared_device(), base_params(), ball_field(), ps, s, near);
   INFO("all: " << all.steps << " steps, " << by_all.size() << " spheres; near: " << near.steps << " steps, "

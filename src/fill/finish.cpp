@@ -260,7 +260,7 @@ class Finisher {
   /// bound (`hot_`) where they are few (relax_near), else of all.
   bool relax() {
     ++stats_.rounds;
-    if (!hot_.empty())
+    if (!hot_.empty() && engine_->size() >= s_.near_min_spheres)
       if (const std::optional<bool> stalled = relax_near()) return *stalled;
     return relax_on(*engine_, engine_->size());
   }
