@@ -18,6 +18,7 @@
 
 #include "lammps/birth_tally.hpp"
 #include "pfill/birth_sites.hpp"
+#include "lammps_fixtures.hpp"
 #include "pfill/engine/reference.hpp"
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
@@ -48,22 +49,7 @@ EngineParams small_params() {
 
 // Particles on a jittered lattice inside the ball, some overlapping, moving.
 std::vector<Particle> lattice(double R, double spacing, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Particle> ps;
-  uint64_t id = 100;
-  for (double x = -R; x <= R; x += spacing)
-    for (double y = -R; y <= R; y += spacing)
-      for (double z = -R; z <= R; z += spacing) {
-        Particle p;
-        p.position = Vec3{x, y, z} + Vec3{u(rng), u(rng), u(rng)} * (0.08 * spacing);
-        if (length(p.position) > R - 0.06) continue;
-        p.velocity = Vec3{u(rng), u(rng), u(rng)} * 0.2;
-        p.radius = 0.05;
-        p.id = id++;
-        ps.push_back(p);
-      }
-  return ps;
+  return test::jittered_lattice(R, spacing, seed, 0.08, 100);
 }
 
 Vec3 momentum(const std::vector<Particle>& ps) {

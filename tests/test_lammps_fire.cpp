@@ -16,6 +16,7 @@
 #include <random>
 #include <vector>
 
+#include "lammps_fixtures.hpp"
 #include "pfill/engine/reference.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/lammps.hpp"
@@ -46,22 +47,7 @@ EngineParams fire_params() {
 
 // Overlapping spheres on a jittered lattice inside a ball of radius R, moving.
 std::vector<Particle> squeezed(double R, double spacing, uint64_t seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(-1, 1);
-  std::vector<Particle> ps;
-  uint64_t id = 1;
-  for (double x = -R; x <= R; x += spacing)
-    for (double y = -R; y <= R; y += spacing)
-      for (double z = -R; z <= R; z += spacing) {
-        Particle p;
-        p.position = Vec3{x, y, z} + Vec3{u(rng), u(rng), u(rng)} * (0.1 * spacing);
-        if (length(p.position) > R - 0.06) continue;
-        p.velocity = Vec3{u(rng), u(rng), u(rng)} * 0.2;
-        p.radius = 0.05;
-        p.id = id++;
-        ps.push_back(p);
-      }
-  return ps;
+  return test::jittered_lattice(R, spacing, seed, 0.1, 1);
 }
 
 // A double as four 16-bit pieces (sums of a few ranks' pieces cannot overflow an int).
