@@ -39,6 +39,16 @@
 #endif
 
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer (level 0) */
+
+/* One level (PF_LEVELS == 1): the slots open with a table, a word a cell,
+ * of the float at which the cell's block starts. Only the cells a sphere
+ * can reach (within about a cell of the object: CellGrid::set_domain) have
+ * a block of their own; the rest have PF_NO_BLOCK set and share one empty
+ * block, which insert_cells never fills (most of a box around a round
+ * object is outside it: spot's is 3.8 times its volume). */
+#define PF_NO_BLOCK 0x80000000u
+uint pf_block_at(__global const float* slots, uint cell) { return as_uint(slots[cell]) & ~PF_NO_BLOCK; }
+bool pf_no_block(__global const float* slots, uint cell) { return (as_uint(slots[cell]) & PF_NO_BLOCK) != 0u; }
 #define PF_SLOT(s, row) (((s) >> 3) * 40u + (row) * 8u + ((s) & 7u)) /* float of slot s, row 0-4, in a block */
 
 /* Cell coordinates of a point, clamped into the grid (a particle outside
@@ -173,7 +183,11 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
     __global float* block = slots + g.slot0 + in_level * 5u * cap;
 #else
     const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), cap = PF_CELL_CAP;
-    __global float* block = slots + cell * PF_BLOCK;
+    if (pf_no_block(slots, cell)) { /* unreachable; its own list build reports it (overflow bit) */
+      touched[now * touched_stride + k] = 0u;
+      continue;
+    }
+    __global float* block = slots + pf_block_at(slots, cell);
 #endif
     const uint count = atomic_inc(&counts[cell_base + cell]);
     touched[now * touched_stride + k] = count == 0u ? cell + 1u : 0u;
@@ -238,7 +252,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
         const uint cell = pf_cell_index(cc, cell_dims);
         const uint m = min(counts[cell_base + cell], PF_CELL_CAP);
         for (uint k = 0; k < m; ++k) {
-          const uint j = as_uint(slots[cell * PF_BLOCK + PF_SLOT(k, 4u)]);
+          const uint j = as_uint(slots[pf_block_at(slots, cell) + PF_SLOT(k, 4u)]);
           if (j == i) continue;
           if (pf_in_list_range(xi, X[j])) {
             if (found < max_out) out[i * max_out + found] = j;

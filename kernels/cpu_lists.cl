@@ -265,7 +265,7 @@ void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell
 
 /* Copies level-0 cell `cell`'s listed particles to the end of st's candidates, in index order. */
 void pf_stencil_add(pf_stencil* st, __global const uint* counts, __global const float* slots, uint cell) {
-  pf_stencil_add_block(st, counts, cell, slots + cell * PF_BLOCK, PF_CELL_CAP, true);
+  pf_stencil_add_block(st, counts, cell, slots + pf_block_at(slots, cell), PF_CELL_CAP, true);
 }
 
 #if PF_LEVELS > 1
@@ -358,6 +358,7 @@ void pf_stencil_gather(pf_stencil* st, __global const uint* counts, __global con
   st->count = 0u;
   st->bits = 0u;
   st->cell = pf_cell_index(c, cell_dims);
+  if (pf_no_block(slots, st->cell)) st->bits |= PF_OVERFLOW_BIT; /* a sphere where none can be: not listed */
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
 #if PF_NEWTON
   pf_stencil_add(st, counts, slots, st->cell);

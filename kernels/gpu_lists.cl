@@ -64,6 +64,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
         }
   }
 #else
+  if (pf_no_block(slots, pf_cell_index(c, cell_dims))) *bits |= PF_OVERFLOW_BIT; /* a sphere where none can be: not listed */
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), cell_dims - (int4)(1));
   for (int cz = lo.z; cz <= hi.z; ++cz)
     for (int cy = lo.y; cy <= hi.y; ++cy)
@@ -71,7 +72,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
         if (!pf_cell_in_reach(frac, cx - c.x, cy - c.y, cz - c.z, cell_inv)) continue;
         const uint cell = (uint)(cx + cell_dims.x * (cy + cell_dims.y * cz));
         const uint m = pf_cell_listed(counts, cell, bits);
-        pf_list_cell(i, xi, slots + cell * PF_BLOCK, m, row, &found, &pending);
+        pf_list_cell(i, xi, slots + pf_block_at(slots, cell), m, row, &found, &pending);
       }
 #endif
   for (uint q = found & ~3u; q < found && q < PF_LIST_CAP; ++q) /* the last, partial group */

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <string>
 
+#include "engine/reachable_cells.hpp"
 #include "pfill/device/device_error.hpp"
 #include "pfill/error.hpp"
 
@@ -19,17 +20,23 @@ CellGrid::CellGrid(Device& device, double cell_size, size_t cell_capacity, unsig
   touched_upto = device_.make_buffer(2 * sizeof(cl_uint), "cells to empty");
 }
 
-void CellGrid::set_domain(const Box3& box) {
+void CellGrid::set_domain(const Box3& box, const ScalarGrid* field) {
   const double cs = cell_size_;
   int d[3];
   for (int a = 0; a < 3; ++a) d[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
-  double total = 0, slot_floats = 0;
+  double total = 0;
   for (unsigned level = 0; level < levels_; ++level) {
     double cells = 1;
     for (int a = 0; a < 3; ++a) cells *= ((d[a] - 1) >> level) + 1;
     total += cells;
-    slot_floats += cells * 5 * (level == 0 ? cell_capacity_ : capacity_up_);
   }
+  const std::vector<uint8_t> reachable =
+      levels_ == 1 && field != nullptr && !field->values.empty() ? reachable_cells(*field, box.lo, cs, d)
+                                                                 : std::vector<uint8_t>();
+  blocks_ = levels_ > 1 ? 0
+            : reachable.empty() ? static_cast<size_t>(total)
+                                : static_cast<size_t>(std::count(reachable.begin(), reachable.end(), 1));
+  const double slot_floats = slot_floats_for(d, total);
   if (slot_floats > 1.5e9)
     throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
                 " cells; use a larger radius or a smaller domain");
@@ -47,8 +54,46 @@ void CellGrid::set_domain(const Box3& box) {
   slots = device_.make_buffer(slot_bytes, "cell slots");
   // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
   check_cl(device_.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer", "cell slots");
+  if (levels_ == 1) write_block_table(reachable);
   clear();
   has_domain_ = true;
+}
+
+// One level: a table word a cell, then the blocks of the reachable cells
+// and one empty block the others share (cells.cl PF_NO_BLOCK); the table
+// padded to 64 bytes, so that blocks keep the alignment of their chunks.
+// Cell levels: every cell its block, one level after the other.
+double CellGrid::slot_floats_for(const int d[3], double total) const {
+  if (levels_ > 1) {
+    double floats = 0;
+    for (unsigned level = 0; level < levels_; ++level) {
+      double cells = 1;
+      for (int a = 0; a < 3; ++a) cells *= ((d[a] - 1) >> level) + 1;
+      floats += cells * 5 * (level == 0 ? cell_capacity_ : capacity_up_);
+    }
+    return floats;
+  }
+  return static_cast<double>(table_words(static_cast<size_t>(total))) +
+         static_cast<double>(blocks_ + 1) * 5 * static_cast<double>(cell_capacity_);
+}
+
+size_t CellGrid::table_words(size_t cells) { return (cells + 15) / 16 * 16; }
+
+void CellGrid::write_block_table(const std::vector<uint8_t>& reachable) {
+  const size_t block = 5 * cell_capacity_, first = table_words(total_);
+  const cl_uint spare = static_cast<cl_uint>(first + blocks_ * block) | kNoBlock;
+  std::vector<cl_uint> table(total_);
+  size_t next = first;
+  for (size_t cell = 0; cell < total_; ++cell) {
+    if (!reachable.empty() && !reachable[cell]) {
+      table[cell] = spare;
+      continue;
+    }
+    table[cell] = static_cast<cl_uint>(next);
+    next += block;
+  }
+  check_cl(device_.queue().enqueueWriteBuffer(slots, CL_TRUE, 0, total_ * sizeof(cl_uint), table.data()),
+           "clEnqueueWriteBuffer", "cell slots' table");
 }
 
 void CellGrid::reserve(size_t cap) {

@@ -70,7 +70,7 @@ void Engine::set_field(const ScalarGrid& field, bool borrow) {
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());
-  impl_->form->set_domain(box);
+  impl_->form->set_domain(box, &field);
 }
 
 size_t Engine::add_particles(const std::vector<Particle>& particles) {

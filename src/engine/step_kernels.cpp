@@ -222,8 +222,8 @@ void StepKernels::reserve(size_t want) {
   s.records->reserve(level1_count(cap), s.steps);
 }
 
-void StepKernels::set_domain(const Box3& box) {
-  s.cells.set_domain(box);
+void StepKernels::set_domain(const Box3& box, const ScalarGrid* field) {
+  s.cells.set_domain(box, field);
   s.lists.valid = false;
   for (Kernel* k : kernels()) k->forget_args();
 }

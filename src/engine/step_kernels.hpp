@@ -23,8 +23,9 @@ class StepKernels {
   void step();
   /// Room for `cap` particles in every part (state kept; doubling is the caller's).
   void reserve(size_t cap);
-  /// The grid over `box` (the lists are then rebuilt).
-  void set_domain(const Box3& box);
+  /// The grid over `box` (the lists are then rebuilt); with the wall's
+  /// field, slots only where spheres can be (CellGrid::set_domain).
+  void set_domain(const Box3& box, const ScalarGrid* field = nullptr);
 
   /// Births and removals (births_removals.cl): one particle written, one
   /// linked into the lists in place, one removed from them (the last
