@@ -54,6 +54,19 @@ ParticleSet to_set(const std::vector<Particle>& ps, double radius, double shrink
   return set;
 }
 
+/// Each sphere's overlapping partners, one run each: partners[first[i]] up
+/// to partners[first[i + 1]] (a vector a sphere cost ~70 MiB at 1e6).
+struct OverlapPartners {
+  OverlapPartners(size_t n, const std::vector<Overlap>& overlaps) : first(n + 1, 0), partners(2 * overlaps.size()) {
+    for (const Overlap& o : overlaps) ++first[o.i + 1], ++first[o.j + 1];
+    for (size_t i = 0; i < n; ++i) first[i + 1] += first[i];
+    std::vector<size_t> next(first.begin(), first.end() - 1);
+    for (const Overlap& o : overlaps) partners[next[o.i]++] = o.j, partners[next[o.j]++] = o.i;
+  }
+  std::vector<size_t> first;
+  std::vector<uint32_t> partners;
+};
+
 class Finisher {
  public:
   Finisher(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make, const EngineParams& base,
@@ -112,6 +125,7 @@ class Finisher {
     ParticleSet now;
     for (int round = 0;; ++round) {
       const bool stalled = relax();
+      now = ParticleSet();  // (memory: the last round's set goes before this one's is read)
       now = current();
       const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
       size_t over = 0;
@@ -345,15 +359,13 @@ class Finisher {
   void remove_most_compressed(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
     const size_t n = now.size();
     std::vector<double> need(n, 0), pressed(n, 0);
-    std::vector<std::vector<uint32_t>> touching(n);
+    const OverlapPartners touching(n, overlaps);
     for (const Overlap& o : overlaps) {
       const double excess = 0.5 * std::max(0.0, o.fraction - s_.max_overlap);
       need[o.i] = std::max(need[o.i], excess);
       need[o.j] = std::max(need[o.j], excess);
       pressed[o.i] += o.fraction;
       pressed[o.j] += o.fraction;
-      touching[o.i].push_back(o.j);
-      touching[o.j].push_back(o.i);
     }
     // Unequal spheres: the volume a sphere must give up, r_i^2 r_min need_i
     // (need_i a share of the smallest radius), counted in spheres of the
@@ -393,7 +405,7 @@ class Finisher {
       out.push_back(i);
       chosen[i] = true;
       jam_done[find(static_cast<uint32_t>(i))] = true;
-      for (uint32_t j : touching[i]) blocked[j] = true;
+      for (size_t k = touching.first[i]; k < touching.first[i + 1]; ++k) blocked[touching.partners[k]] = true;
     };
     // Only the most pressed jams, `jam_share` of them: removing a few
     // spheres relieves the pressure far around (the bunny: 14 removed
