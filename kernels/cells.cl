@@ -40,12 +40,13 @@
 
 #define PF_BLOCK (5u * PF_CELL_CAP) /* floats per cell in the slots buffer (level 0) */
 
-/* One level (PF_LEVELS == 1): the slots open with a table, a word a cell,
- * of the float at which the cell's block starts. Only the cells a sphere
- * can reach (within about a cell of the object: CellGrid::set_domain) have
- * a block of their own; the rest have PF_NO_BLOCK set and share one empty
- * block, which insert_cells never fills (most of a box around a round
- * object is outside it: spot's is 3.8 times its volume). */
+/* The slots open with a table, a word a cell (every level's cells, one
+ * level after the other), of the float at which the cell's block starts.
+ * Only the cells a sphere can reach (within about a cell of the object:
+ * CellGrid::set_domain) have a block of their own; the rest have
+ * PF_NO_BLOCK set and share one empty block, which insert_cells never
+ * fills (most of a box around a round object is outside it: spot's is 3.8
+ * times its volume). */
 #define PF_NO_BLOCK 0x80000000u
 uint pf_block_at(__global const float* slots, uint cell) { return as_uint(slots[cell]) & ~PF_NO_BLOCK; }
 bool pf_no_block(__global const float* slots, uint cell) { return (as_uint(slots[cell]) & PF_NO_BLOCK) != 0u; }
@@ -69,8 +70,8 @@ uint pf_cell_index(int4 c, int4 dims) { return (uint)(c.x + dims.x * (c.y + dims
  * lie in the 27 cells around it in their level; those below, in the cells
  * under the 27 of its own (pf_level_span). So a small sphere's list build
  * reads small spheres' cells, not cells sized for the largest pair. The
- * levels' cells are numbered one level after the other, as are their
- * slots (level 0 PF_CELL_CAP a cell, the others PF_CELL_CAP_UP). */
+ * levels' cells are numbered one level after the other (their blocks
+ * hold PF_CELL_CAP at level 0, PF_CELL_CAP_UP above). */
 #if PF_LEVELS > 1
 uint pf_level_of(float r) {
   uint level = 0u;
@@ -81,7 +82,6 @@ uint pf_level_of(float r) {
 typedef struct {
   int4 dims;   /* cells a side (w: 0) */
   uint first;  /* its first cell, over all levels */
-  uint slot0;  /* its first float in the slots */
   uint cap;    /* particles a cell */
 } pf_level;
 
@@ -89,12 +89,9 @@ typedef struct {
 pf_level pf_level_at(int4 dims0, uint level) {
   pf_level g;
   g.first = 0u;
-  g.slot0 = 0u;
   for (uint l = 0u; l < level; ++l) {
     const int4 d = ((dims0 - (int4)(1)) >> (int4)((int)l)) + (int4)(1);
-    const uint cells = (uint)(d.x * d.y * d.z);
-    g.first += cells;
-    g.slot0 += cells * 5u * (l == 0u ? PF_CELL_CAP : PF_CELL_CAP_UP);
+    g.first += (uint)(d.x * d.y * d.z);
   }
   g.dims = ((dims0 - (int4)(1)) >> (int4)((int)level)) + (int4)(1);
   g.dims.w = 0;
@@ -179,16 +176,15 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
     const uint level = pf_level_of(x.w);
     const pf_level g = pf_level_at(cell_dims, level);
     const int4 c = pf_cell_of(x, cell_origin, cell_inv, cell_dims) >> (int4)((int)level);
-    const uint in_level = pf_cell_index(c, g.dims), cell = g.first + in_level, cap = g.cap;
-    __global float* block = slots + g.slot0 + in_level * 5u * cap;
+    const uint cell = g.first + pf_cell_index(c, g.dims), cap = g.cap;
 #else
     const uint cell = pf_cell_index(pf_cell_of(x, cell_origin, cell_inv, cell_dims), cell_dims), cap = PF_CELL_CAP;
+#endif
     if (pf_no_block(slots, cell)) { /* unreachable; its own list build reports it (overflow bit) */
       touched[now * touched_stride + k] = 0u;
       continue;
     }
     __global float* block = slots + pf_block_at(slots, cell);
-#endif
     const uint count = atomic_inc(&counts[cell_base + cell]);
     touched[now * touched_stride + k] = count == 0u ? cell + 1u : 0u;
     if (count < cap) {
@@ -232,7 +228,7 @@ __kernel void list_neighbours(__global const float4* X, __global const uint* cou
           const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
           const uint m = min(counts[cell_base + g.first + in_level], g.cap);
           for (uint k = 0; k < m; ++k) {
-            const uint j = as_uint(slots[g.slot0 + in_level * 5u * g.cap + PF_SLOT(k, 4u)]);
+            const uint j = as_uint(slots[pf_block_at(slots, g.first + in_level) + PF_SLOT(k, 4u)]);
             if (j == i) continue;
             if (pf_in_list_range(xi, X[j])) {
               if (found < max_out) out[i * max_out + found] = j;

@@ -284,7 +284,7 @@ void pf_stencil_add_span(pf_stencil* st, __global const uint* counts, __global c
     for (int cy = lo.y; cy <= hi.y; ++cy)
       for (int cx = lo.x; cx <= hi.x; ++cx) {
         const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
-        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap, sorted);
+        pf_stencil_add_block(st, counts, g.first + in_level, slots + pf_block_at(slots, g.first + in_level), g.cap, sorted);
       }
 }
 
@@ -298,15 +298,16 @@ void pf_stencil_gather_levels(pf_stencil* st, __global const uint* counts, __glo
   const pf_level g = pf_level_at(cell_dims, own);
   const int4 c = c0 >> (int4)((int)own);
   st->cell = g.first + pf_cell_index(c, g.dims);
+  if (pf_no_block(slots, st->cell)) st->bits |= PF_OVERFLOW_BIT; /* a sphere where none can be: not listed */
   const int4 lo = max(c - (int4)(1), (int4)(0)), hi = min(c + (int4)(1), g.dims - (int4)(1));
 #if PF_NEWTON
-  pf_stencil_add_block(st, counts, st->cell, slots + g.slot0 + (st->cell - g.first) * 5u * g.cap, g.cap, true);
+  pf_stencil_add_block(st, counts, st->cell, slots + pf_block_at(slots, st->cell), g.cap, true);
   st->own = st->count;
   for (int cz = c.z; cz <= hi.z; ++cz)
     for (int cy = cz == c.z ? c.y : lo.y; cy <= hi.y; ++cy)
       for (int cx = cz == c.z && cy == c.y ? c.x + 1 : lo.x; cx <= hi.x; ++cx) {
         const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
-        pf_stencil_add_block(st, counts, g.first + in_level, slots + g.slot0 + in_level * 5u * g.cap, g.cap, true);
+        pf_stencil_add_block(st, counts, g.first + in_level, slots + pf_block_at(slots, g.first + in_level), g.cap, true);
       }
 #else
   st->own = 0u;
@@ -396,7 +397,7 @@ uint pf_list_levels_below(uint i, float4 xi, __global const uint* counts, __glob
         for (int cx = lo.x; cx <= hi.x; ++cx) {
           const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
           const uint m = pf_cell_listed_cap(counts, g.first + in_level, g.cap, bits);
-          __global const float* block = slots + g.slot0 + in_level * 5u * g.cap;
+          __global const float* block = slots + pf_block_at(slots, g.first + in_level);
           for (uint k = 0; k < m; ++k) {
             const float dx = xi.x - block[PF_SLOT(k, 0u)], dy = xi.y - block[PF_SLOT(k, 1u)];
             const float dz = xi.z - block[PF_SLOT(k, 2u)];

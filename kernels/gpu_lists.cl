@@ -46,6 +46,11 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
   uint4 pending = (uint4)(0u);
 #if PF_LEVELS > 1
   const uint own = pf_level_of(xi.w);
+  {
+    const pf_level g = pf_level_at(cell_dims, own);
+    if (pf_no_block(slots, g.first + pf_cell_index(c >> (int4)((int)own), g.dims)))
+      *bits |= PF_OVERFLOW_BIT; /* a sphere where none can be: not listed */
+  }
   const float4 at = frac + convert_float4(c); /* in level-0 cells */
   for (uint level = 0u; level < PF_LEVELS; ++level) {
     const pf_level g = pf_level_at(cell_dims, level);
@@ -60,7 +65,7 @@ uint pf_build_list(uint i, float4 xi, __global const uint* counts, __global cons
           if (level >= own && !pf_cell_in_reach_cells(frac_l, cx - cl.x, cy - cl.y, cz - cl.z, 1.0f)) continue;
           const uint in_level = pf_cell_index((int4)(cx, cy, cz, 0), g.dims);
           const uint m = pf_cell_listed_cap(counts, g.first + in_level, g.cap, bits);
-          pf_list_cell(i, xi, slots + g.slot0 + in_level * 5u * g.cap, m, row, &found, &pending);
+          pf_list_cell(i, xi, slots + pf_block_at(slots, g.first + in_level), m, row, &found, &pending);
         }
   }
 #else

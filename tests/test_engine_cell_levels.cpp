@@ -125,16 +125,20 @@ TEST_CASE("cell levels: unequal spheres of radii 1:2 and more get nested levels;
 TEST_CASE("cell levels: every form's lists equal a brute-force pair search on a 1:10 mix") {
   const double R = 8.0;
   const ScalarGrid field = sphere_grid(R, 0.25);
-  for (int mix = 0; mix < 4; ++mix) {
-    const bool middle = mix < 2;
+  // and the first mix once more in a box mostly outside the ball, whose far
+  // cells of every level have no slots (CellGrid::set_domain)
+  const ScalarGrid wide = sampled_grid(2 * R, 0.5, [R](const Vec3& x) { return sphere_distance(x, R); });
+  for (int mix = 0; mix < 5; ++mix) {
+    const bool middle = mix < 2 || mix == 4;
     const double cutoff = mix % 2 == 0 ? 0.0 : 2.5;
     const auto start = ten_to_one(5, 3000, R, 0.5, 11, middle);
     REQUIRE(start.size() == 3005);
     for (const Form& f : kForms) {
-      INFO("form " << std::string(f.name) << ", cutoff " << cutoff << (middle ? ", levels 1, 2 too" : ", levels 0, 3"));
+      INFO("form " << std::string(f.name) << ", cutoff " << cutoff << (middle ? ", levels 1, 2 too" : ", levels 0, 3")
+                   << (mix == 4 ? ", wide box" : ""));
       Engine engine(shared_device(), params_for(f, cutoff));
       REQUIRE(engine.constants().cell_levels == 4);
-      engine.set_field(field);
+      engine.set_field(mix == 4 ? wide : field);
       engine.add_particles(start);
       const auto at_build = engine.read_particles();  // as the kernels hold them (float)
       std::set<std::pair<uint32_t, uint32_t>> want, band;

@@ -25,21 +25,19 @@ void CellGrid::set_domain(const Box3& box, const ScalarGrid* field) {
   int d[3];
   for (int a = 0; a < 3; ++a) d[a] = std::max(1, static_cast<int>(std::ceil(box.size()[a] / cs)));
   double total = 0;
-  for (unsigned level = 0; level < levels_; ++level) {
-    double cells = 1;
-    for (int a = 0; a < 3; ++a) cells *= ((d[a] - 1) >> level) + 1;
-    total += cells;
-  }
-  const std::vector<uint8_t> reachable =
-      levels_ == 1 && field != nullptr && !field->values.empty() ? reachable_cells(*field, box.lo, cs, d)
-                                                                 : std::vector<uint8_t>();
-  blocks_ = levels_ > 1 ? 0
-            : reachable.empty() ? static_cast<size_t>(total)
-                                : static_cast<size_t>(std::count(reachable.begin(), reachable.end(), 1));
-  const double slot_floats = slot_floats_for(d, total);
-  if (slot_floats > 1.5e9)
+  for (unsigned level = 0; level < levels_; ++level) total += level_cells(d, level);
+  if (total > 1.5e8)  // (8 bytes of counts and 4 of table a cell, slots or not)
     throw Error("engine: the neighbour grid would need " + std::to_string(static_cast<long long>(total)) +
                 " cells; use a larger radius or a smaller domain");
+  total_ = static_cast<size_t>(total);
+  const std::vector<uint8_t> reachable = field != nullptr && !field->values.empty()
+                                             ? reachable_cells(*field, box.lo, cs, d)
+                                             : std::vector<uint8_t>(static_cast<size_t>(level_cells(d, 0)), 1);
+  size_t slot_floats = 0;
+  const std::vector<cl_uint> table = block_table(d, reachable, slot_floats);
+  if (static_cast<double>(slot_floats) > 1.5e9)
+    throw Error("engine: the neighbour grid would need " + std::to_string(blocks_) +
+                " cells with slots; use a larger radius or a smaller domain");
   const double lo[3] = {box.lo.x, box.lo.y, box.lo.z};
   for (int a = 0; a < 3; ++a) {
     origin.s[a] = static_cast<float>(lo[a]);
@@ -48,52 +46,55 @@ void CellGrid::set_domain(const Box3& box, const ScalarGrid* field) {
   }
   origin.s[3] = inv.s[3] = 0.0f;
   dims.s[3] = 0;
-  total_ = static_cast<size_t>(total);
   counts = device_.make_buffer(2 * total_ * sizeof(cl_uint), "cell counts");
-  const size_t slot_bytes = static_cast<size_t>(slot_floats) * sizeof(cl_float);
+  const size_t slot_bytes = slot_floats * sizeof(cl_float);
   slots = device_.make_buffer(slot_bytes, "cell slots");
   // Zeroed once: lanes past a cell's count are read (then masked), so keep them finite.
   check_cl(device_.queue().enqueueFillBuffer(slots, cl_float(0), 0, slot_bytes), "clEnqueueFillBuffer", "cell slots");
-  if (levels_ == 1) write_block_table(reachable);
+  check_cl(device_.queue().enqueueWriteBuffer(slots, CL_TRUE, 0, total_ * sizeof(cl_uint), table.data()),
+           "clEnqueueWriteBuffer", "cell slots' table");
   clear();
   has_domain_ = true;
 }
 
-// One level: a table word a cell, then the blocks of the reachable cells
-// and one empty block the others share (cells.cl PF_NO_BLOCK); the table
-// padded to 64 bytes, so that blocks keep the alignment of their chunks.
-// Cell levels: every cell its block, one level after the other.
-double CellGrid::slot_floats_for(const int d[3], double total) const {
-  if (levels_ > 1) {
-    double floats = 0;
-    for (unsigned level = 0; level < levels_; ++level) {
-      double cells = 1;
-      for (int a = 0; a < 3; ++a) cells *= ((d[a] - 1) >> level) + 1;
-      floats += cells * 5 * (level == 0 ? cell_capacity_ : capacity_up_);
-    }
-    return floats;
-  }
-  return static_cast<double>(table_words(static_cast<size_t>(total))) +
-         static_cast<double>(blocks_ + 1) * 5 * static_cast<double>(cell_capacity_);
+double CellGrid::level_cells(const int d[3], unsigned level) {
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) cells *= ((d[a] - 1) >> level) + 1;
+  return cells;
 }
 
-size_t CellGrid::table_words(size_t cells) { return (cells + 15) / 16 * 16; }
-
-void CellGrid::write_block_table(const std::vector<uint8_t>& reachable) {
-  const size_t block = 5 * cell_capacity_, first = table_words(total_);
-  const cl_uint spare = static_cast<cl_uint>(first + blocks_ * block) | kNoBlock;
-  std::vector<cl_uint> table(total_);
-  size_t next = first;
-  for (size_t cell = 0; cell < total_; ++cell) {
-    if (!reachable.empty() && !reachable[cell]) {
-      table[cell] = spare;
-      continue;
-    }
-    table[cell] = static_cast<cl_uint>(next);
-    next += block;
+// The slots' table (cells.cl PF_NO_BLOCK): a word a cell of every level,
+// padded to 64 bytes (the blocks keep their chunks' alignment), then a
+// block for each cell a sphere can reach (a level-L cell where one of the
+// level-0 cells under it is `reachable`) and one empty block the others
+// share. Sets blocks_; `floats`: the slots' size.
+std::vector<cl_uint> CellGrid::block_table(const int d[3], const std::vector<uint8_t>& reachable, size_t& floats) {
+  std::vector<cl_uint> table(total_, 0);
+  std::vector<uint8_t> used(total_, 0);
+  size_t first = 0;
+  for (unsigned level = 0; level < levels_; ++level) {
+    const int n[3] = {((d[0] - 1) >> level) + 1, ((d[1] - 1) >> level) + 1, ((d[2] - 1) >> level) + 1};
+    for (int z = 0; z < d[2]; ++z)
+      for (int y = 0; y < d[1]; ++y)
+        for (int x = 0; x < d[0]; ++x)
+          if (reachable[static_cast<size_t>(x) + d[0] * (y + static_cast<size_t>(d[1]) * z)])
+            used[first + static_cast<size_t>(x >> level) + n[0] * ((y >> level) + static_cast<size_t>(n[1]) * (z >> level))] = 1;
+    first += static_cast<size_t>(level_cells(d, level));
   }
-  check_cl(device_.queue().enqueueWriteBuffer(slots, CL_TRUE, 0, total_ * sizeof(cl_uint), table.data()),
-           "clEnqueueWriteBuffer", "cell slots' table");
+  size_t next = (total_ + 15) / 16 * 16;
+  blocks_ = 0;
+  first = 0;
+  for (unsigned level = 0; level < levels_; ++level) {
+    const size_t block = 5 * (level == 0 ? cell_capacity_ : capacity_up_);
+    const size_t cells = static_cast<size_t>(level_cells(d, level));
+    for (size_t cell = first; cell < first + cells; ++cell)
+      if (used[cell]) table[cell] = static_cast<cl_uint>(next), next += block, ++blocks_;
+    first += cells;
+  }
+  for (size_t cell = 0; cell < total_; ++cell)
+    if (!used[cell]) table[cell] = static_cast<cl_uint>(next) | kNoBlock;
+  floats = next + 5 * std::max(cell_capacity_, capacity_up_);
+  return table;
 }
 
 void CellGrid::reserve(size_t cap) {

@@ -24,12 +24,12 @@ class CellGrid {
   /// The grid over `box`: cells of edge exactly the cell size (the grid
   /// may reach a little past the box; particles outside clamp in), empty.
   /// Level L has ((dims - 1) >> L) + 1 cells a side, numbered after the
-  /// levels below it, its slots after theirs (cells.cl pf_level_at).
-  /// One level with a `field` (the wall): slots only for the cells a sphere
-  /// can reach (reachable_cells.hpp), found through a table (cells.cl
+  /// levels below it (cells.cl pf_level_at).
+  /// With a `field` (the wall): slots only for the cells a sphere can
+  /// reach (reachable_cells.hpp), found through a table (cells.cl
   /// PF_NO_BLOCK); without one, every cell has slots.
   void set_domain(const Box3& box, const ScalarGrid* field = nullptr);
-  /// The cells with slots of their own (one level; cell levels: 0).
+  /// The cells with slots of their own, over all levels.
   size_t blocks() const { return blocks_; }
   /// Room for `cap` particles' first-into words (empties the cells).
   void reserve(size_t cap);
@@ -56,9 +56,8 @@ class CellGrid {
   size_t cell_capacity_;
   unsigned levels_;
   size_t capacity_up_;
-  double slot_floats_for(const int d[3], double total) const;
-  static size_t table_words(size_t cells);
-  void write_block_table(const std::vector<uint8_t>& reachable);
+  static double level_cells(const int d[3], unsigned level);
+  std::vector<cl_uint> block_table(const int d[3], const std::vector<uint8_t>& reachable, size_t& floats);
 
   static constexpr cl_uint kNoBlock = 0x80000000u;  // cells.cl PF_NO_BLOCK
   size_t total_ = 0;
