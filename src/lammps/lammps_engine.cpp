@@ -240,7 +240,8 @@ class LammpsEngine final : public ParticleEngine {
     while (pending_ > 0) {
       const size_t k = std::min<size_t>(pending_, 2147483647);
       step_.set_run_start(steps_);
-      lmp_->command("run " + std::to_string(k) + " pre " + (dirty_ ? "yes" : "no") + " post no");
+      lmp_->command("run " + std::to_string(k) + " pre " + (dirty_ ? "yes" : "no") + " post " +
+                    (lmp_->logging() ? "yes" : "no"));
       steps_ += k;
       pending_ -= k;
       dirty_ = false;
