@@ -1,10 +1,10 @@
 // The LAMMPS engine (docs/lammps_engine.md): a ParticleEngine whose
 // particles live in a LAMMPS instance on MPI_COMM_WORLD. LAMMPS owns the
 // domain decomposition, the neighbour lists, the halo exchange, the
-// migration of atoms between ranks and the potential's pair forces (lj/cut,
-// or mie/cut, cut at the potential's minimum for the repulsive default);
-// pfill's own step rules run in a `fix external pf/callback` on each rank's
-// own atoms (step_callback.hpp). This file is the engine class: it ties
+// migration of atoms between ranks; pfill's own step rules (the pair
+// forces over LAMMPS' lists, the integration, the wall) run in a `fix
+// external pf/callback` on each rank's own atoms (step_callback.hpp). This
+// file is the engine class: it ties
 // together the LAMMPS instance (lammps_session.hpp), the settings handed
 // to it (lammps_settings.hpp), the engine's indices (particle_book.hpp),
 // that callback and the reads over ranks (engine_reads.hpp): births,
@@ -211,7 +211,6 @@ class LammpsEngine final : public ParticleEngine {
     box_ = b.box;
     for (int a = 0; a < 3; ++a) lo_[a] = b.lo[a], hi_[a] = b.hi[a];
     step_.set_clamp(lo_, hi_);
-    step_.set_pair_style(b.pair_style);
     pair_line_ = b.describe;
     step_.install("pf_step");
     box_made_ = true;

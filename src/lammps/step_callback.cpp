@@ -54,14 +54,13 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   // step number): that is no step.
   if (step <= static_cast<int64_t>(run_start_)) return;
   const EngineConstants& c = constants_;
-  double** f = session_.atoms<double**>("f");
   double** v = session_.atoms<double**>("v");
   double* radius = session_.atoms<double*>("radius");
   double* rmass = session_.atoms<double*>("rmass");
   double** omega = session_.atoms<double**>("omega");
   LocalRecord rec;
   rec.particles = nlocal;
-  rec.colliding_pairs = contacts(nlocal, x, v, radius, rmass);
+  rec.colliding_pairs = pair_forces(nlocal, x, v, radius, rmass);
   // LAMMPS' step `step` is the engine's step step - 1 (the first run's first is 1).
   const uint64_t index = static_cast<uint64_t>(step) - 1;
   const bool fire = fire_.on(), restart = fire_.restarts_at(index);
@@ -72,8 +71,7 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
     double u[3] = {v[i][0], v[i][1], v[i][2]};
     double p[3] = {x[i][0], x[i][1], x[i][2]};
     const double p0[3] = {p[0], p[1], p[2]};
-    const double* fd = &dashpot_[3 * static_cast<size_t>(i)];
-    const double F[3] = {f[i][0] + fd[0], f[i][1] + fd[1], f[i][2] + fd[2]};
+    const double* F = &force_[3 * static_cast<size_t>(i)];
     if (fire) {
       double pi = 0;
       physics::pf_fire_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], F[0], F[1], F[2], 1 / rmass[i],
@@ -128,20 +126,27 @@ void StepCallback::wall(int tag, double* p, const double* p0, double* u, double 
                              params_.wall_restitution, field);
 }
 
-/// Over this rank's pair list (the pair style's, `newton off`: a pair
-/// with a ghost is listed on both its ranks): the contact dashpot of
-/// physics.cl on this rank's atoms into dashpot_, and the pairs whose
-/// spheres overlap (d < r_i + r_j; a pair with a ghost counts half, so
-/// the sum over ranks counts it once). Positions and velocities are the
-/// step's start (ghosts' from this step's communication).
-double StepCallback::contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
-  dashpot_.assign(3 * static_cast<size_t>(nlocal), 0.0);
+/// Over this rank's pair list (`pair_style zero`'s, `newton off`: a pair
+/// with a ghost is listed on both its ranks, so each rank applies it to
+/// its own atom, with no reverse communication): physics.cl's pair force
+/// (the potential, capped, and the contact dashpot, as the reference
+/// engine sums them) on this rank's atoms into force_, and the pairs whose
+/// spheres overlap (d < r_i + r_j; a pair with a ghost counts half, so the
+/// sum over ranks counts it once). One pass over the list: LAMMPS computes
+/// no pair force (a second pass over the same list cost as much as this).
+/// Positions and velocities are the step's start (ghosts' from this step's
+/// communication).
+double StepCallback::pair_forces(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
+  force_.assign(3 * static_cast<size_t>(nlocal), 0.0);
   void* lmp = session_.handle();
-  const int list = lammps_find_pair_neighlist(lmp, pair_style_.c_str(), 1, 0, 0);
+  const int list = lammps_find_pair_neighlist(lmp, "zero", 1, 0, 0);
   if (list < 0) return 0;
   const EngineConstants& c = constants_;
+  const double sigma2 = c.sigma * c.sigma, rc2 = c.cutoff * c.cutoff, dmin = 1e-3f * c.sigma;
   const double contact2 = c.contact_distance * c.contact_distance;
+  const double a = params_.exponent_a, b = params_.exponent_b, eps = params_.eps;
   const bool damp = c.dashpot > 0;
+  const int* tag = session_.atoms<int*>("id");
   const int n = lammps_neighlist_num_elements(lmp, list);
   double count = 0;
   for (int e = 0; e < n; ++e) {
@@ -150,25 +155,32 @@ double StepCallback::contacts(int nlocal, double** x, double** v, const double* 
     lammps_neighlist_element_neighbors(lmp, list, e, &i, &nn, &neigh);
     if (i >= nlocal) continue;
     const double* xi = x[i];
+    double* fi = &force_[3 * static_cast<size_t>(i)];
     for (int k = 0; k < nn; ++k) {
       const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
-      const double dx = xi[0] - x[j][0], dy = xi[1] - x[j][1], dz = xi[2] - x[j][2];
-      const double d2 = dx * dx + dy * dy + dz * dz;
+      double d[3] = {xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]};
+      double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
       const double rs = radius[i] + radius[j];
-      if (d2 >= std::max(rs * rs, contact2)) continue;
+      if (d2 >= std::max(rc2, rs * rs)) continue;
       const bool mine = j < nlocal;
-      if (d2 < rs * rs) count += mine ? 1 : 0.5;
-      if (!damp || !(d2 > 0)) continue;
-      const double inv_d = 1 / std::sqrt(d2);
-      const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-      const double un = (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
-      // equal radii: the pair scale is 1 (unequal radii on LAMMPS: not yet)
-      const double cd = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0);
-      double* fi = &dashpot_[3 * static_cast<size_t>(i)];
-      fi[0] += cd * nx, fi[1] += cd * ny, fi[2] += cd * nz;
+      // equal radii: the pair scales are 1 (unequal radii on LAMMPS: not yet)
+      physics::pf_apart(&d[0], &d[1], &d[2], &d2, d2 < dmin * dmin, tag[j] > tag[i], dmin);
+      double fp = physics::pf_lj_force_scale(d2, sigma2, eps, a, b, c.a_half, c.b_half, rc2, c.force_cap, 1.0);
+      double fn = 0;  // the dashpot, along n = d / |d|
+      if (d2 < std::max(rs * rs, contact2)) {
+        if (d2 < rs * rs) count += mine ? 1 : 0.5;
+        if (damp) {
+          const double inv_d = 1 / std::sqrt(d2);
+          const double un =
+              ((v[i][0] - v[j][0]) * d[0] + (v[i][1] - v[j][1]) * d[1] + (v[i][2] - v[j][2]) * d[2]) * inv_d;
+          fn = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0) * inv_d;
+        }
+      }
+      fp += fn;
+      fi[0] += fp * d[0], fi[1] += fp * d[1], fi[2] += fp * d[2];
       if (mine) {
-        double* fj = &dashpot_[3 * static_cast<size_t>(j)];
-        fj[0] -= cd * nx, fj[1] -= cd * ny, fj[2] -= cd * nz;
+        double* fj = &force_[3 * static_cast<size_t>(j)];
+        fj[0] -= fp * d[0], fj[1] -= fp * d[1], fj[2] -= fp * d[2];
       }
     }
   }
