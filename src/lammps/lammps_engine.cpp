@@ -67,15 +67,11 @@ class LammpsEngine final : public ParticleEngine {
 
   void set_field(const ScalarGrid& field) override {
     own_field_ = field;
-    // EngineParams::wall_offset: added to each sample as a float, as the kernels read it
-    for (float& v : own_field_.values) v += static_cast<float>(params_.wall_offset);
     field_changed(own_field_);
   }
 
-  void share_field(const ScalarGrid& field) override {
-    if (params_.wall_offset != 0) return set_field(field);
-    field_changed(field);
-  }
+  /// No copy, also with a wall offset: the callback adds it as it reads (band_field.hpp).
+  void share_field(const ScalarGrid& field) override { field_changed(field); }
 
   size_t add_particles(const std::vector<Particle>& ps) override {
     flush();
@@ -217,7 +213,7 @@ class LammpsEngine final : public ParticleEngine {
   }
 
   void field_changed(const ScalarGrid& f) {
-    step_.set_field(&f, box_made_);
+    step_.set_field(f, params_.wall_offset, box_made_);
     if (!box_made_) {
       const Vec3 hi = f.origin + Vec3{(f.dims[0] - 1) * f.spacing, (f.dims[1] - 1) * f.spacing,
                                       (f.dims[2] - 1) * f.spacing};

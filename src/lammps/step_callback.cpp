@@ -10,6 +10,19 @@
 
 namespace pfill {
 namespace lammps_engine {
+namespace {
+
+// physics.cl's wall push and reflection, over the field in bricks.
+using namespace physics;
+#define PF_FN inline
+#define PF_WALL_ITERATIONS kWallIterations
+#define PF_SAMPLE_BAND(PX, PY, PZ, G, LANES) field.sample(PX, PY, PZ, G)
+PF_DEFINE_WALL_PUSH(band_wall_push, double, int, PF_ANY1, PF_SAMPLE_BAND, pf_wall_velocity_change, BandField& field)
+#undef PF_SAMPLE_BAND
+#undef PF_WALL_ITERATIONS
+#undef PF_FN
+
+}  // namespace
 
 void StepCallback::install(const char* fix_id) {
   lammps_set_fix_external_callback(
@@ -24,25 +37,14 @@ void StepCallback::set_clamp(const double lo[3], const double hi[3]) {
   for (int a = 0; a < 3; ++a) lo_[a] = lo[a], hi_[a] = hi[a];
 }
 
-void StepCallback::set_field(const ScalarGrid* field, bool atoms_exist) {
-  field_ = field;
-  const ScalarGrid& f = *field;
-  // The trilinear interpolant's slope is at most the norm of the largest
-  // sample differences along x, y, z over the spacing.
-  double dmax[3] = {0, 0, 0};
-  for (int k = 0; k < f.dims[2]; ++k)
-    for (int j = 0; j < f.dims[1]; ++j)
-      for (int i = 0; i < f.dims[0]; ++i) {
-        const double v = f.at(i, j, k);
-        if (i + 1 < f.dims[0]) dmax[0] = std::max(dmax[0], std::fabs(f.at(i + 1, j, k) - v));
-        if (j + 1 < f.dims[1]) dmax[1] = std::max(dmax[1], std::fabs(f.at(i, j + 1, k) - v));
-        if (k + 1 < f.dims[2]) dmax[2] = std::max(dmax[2], std::fabs(f.at(i, j, k + 1) - v));
-      }
-  lipschitz_ = 1.0001 * std::sqrt(dmax[0] * dmax[0] + dmax[1] * dmax[1] + dmax[2] * dmax[2]) / f.spacing;
+void StepCallback::set_field(const ScalarGrid& f, double offset, bool atoms_exist) {
+  // Bricks deeper than two of the largest radii: no sphere there reaches the wall.
+  field_ = std::make_unique<BandField>(f, offset, 2 * constants_.max_radius);
+  lipschitz_ = field_->lipschitz();
   // Bounds kept from another field mean nothing: every atom samples the new one first.
   if (atoms_exist && session_.nlocal() > 0) {
     double** omega = session_.atoms<double**>("omega");
-    for (int i = 0; i < session_.nlocal(); ++i) omega[i][0] = 0;
+    for (int i = 0; i < session_.nlocal(); ++i) omega[i][0] = 0, omega[i][1] = -1;
   }
 }
 
@@ -67,7 +69,15 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   // FIRE: a step's move stays within the cap, whatever its dt (the kernels' PF_STEP_CAP / dt).
   const double fire_cap = fire ? c.max_speed * c.dt / fire_.dt() : 0;
   double power = 0;  // FIRE: sum F.v over this rank's atoms at the step's start
+  // The wall's reads miss the cache: ahead of the loop, the corners in the
+  // brick each atom last read (omega[j][1]) where it may read again.
+  const double reach = field_ ? lipschitz_ * c.max_speed * c.dt : 0;  // (every step moves within the cap)
+  auto ahead = [&](int j) {
+    if (j < nlocal && omega[j][0] + reach >= -radius[j])
+      field_->prefetch(x[j][0], x[j][1], x[j][2], static_cast<int32_t>(omega[j][1]));
+  };
   for (int i = 0; i < nlocal; ++i) {
+    if (field_) ahead(i + 8);
     double u[3] = {v[i][0], v[i][1], v[i][2]};
     double p[3] = {x[i][0], x[i][1], x[i][2]};
     const double p0[3] = {p[0], p[1], p[2]};
@@ -81,7 +91,7 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
       physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], F[0], F[1], F[2], 1 / rmass[i], c.dt,
                              c.damping_factor, c.max_speed);
     }
-    if (field_) wall(tags[i], p, p0, u, radius[i], omega[i][0], rec);
+    if (field_) wall(tags[i], p, p0, u, radius[i], omega[i], rec);
     // Never past the box (LAMMPS would lose the atom): the wall brings it back.
     for (int a = 0; a < 3; ++a) p[a] = std::min(std::max(p[a], lo_[a]), hi_[a]);
     x[i][0] = p[0], x[i][1] = p[1], x[i][2] = p[2];
@@ -96,9 +106,11 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   local_history_.push_back(rec);
 }
 
-void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double& omega,
+void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double* om,
                         LocalRecord& rec) {
-  const ScalarGrid& field = *field_;
+  double& omega = om[0];
+  BandField& field = *field_;
+  const ScalarGrid& grid = field.grid();
   // omega[i][0] (rotation is not integrated) keeps a bound on the
   // field's value at the atom: its last sample plus the field's slope
   // times the moves since. While that bound says the sphere cannot reach
@@ -112,18 +124,26 @@ void StepCallback::wall(int tag, double* p, const double* p0, double* u, double 
     omega = moved_bound;
     return;
   }
-  double g[3];
-  const double phi = physics::sample(field, p[0], p[1], p[2], g);
-  const double gx = (p[0] - field.origin.x) / field.spacing, gy = (p[1] - field.origin.y) / field.spacing,
-               gz = (p[2] - field.origin.z) / field.spacing;
+  const double gx = (p[0] - grid.origin.x) / grid.spacing, gy = (p[1] - grid.origin.y) / grid.spacing,
+               gz = (p[2] - grid.origin.z) / grid.spacing;
   const bool outside_box =
-      gx < 0 || gy < 0 || gz < 0 || gx > field.dims[0] - 1 || gy > field.dims[1] - 1 || gz > field.dims[2] - 1;
+      gx < 0 || gy < 0 || gz < 0 || gx > grid.dims[0] - 1 || gy > grid.dims[1] - 1 || gz > grid.dims[2] - 1;
+  double g[3], phi = 0;
+  if (outside_box) {
+    phi = field.sample(p[0], p[1], p[2], g);
+  } else if (int32_t slot = -1; field.sample_unless_deep(p[0], p[1], p[2], g, phi, slot)) {
+    om[1] = slot;  // (omega's other components are free: rotation is not integrated)
+  } else {
+    // In a deep brick the sample is below -band (< -r): no push, no flag, and -band bounds it.
+    omega = -2 * constants_.max_radius;
+    return;
+  }
   if (phi > 0 || outside_box) {
     ++rec.flagged;
     flagged_tags_.insert(tag);
   }
-  omega = physics::wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius, radius,
-                             params_.wall_restitution, field);
+  omega = band_wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius, radius,
+                         params_.wall_restitution, field);
 }
 
 /// Over this rank's pair list (`pair_style zero`'s, `newton off`: a pair
