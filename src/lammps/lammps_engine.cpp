@@ -1,10 +1,10 @@
 // The LAMMPS engine (docs/lammps_engine.md): a ParticleEngine whose
 // particles live in a LAMMPS instance on MPI_COMM_WORLD. LAMMPS owns the
 // domain decomposition, the neighbour lists, the halo exchange, the
-// migration of atoms between ranks and the potential's pair forces (lj/cut,
-// or mie/cut, cut at the potential's minimum for the repulsive default);
-// pfill's own step rules run in a `fix external pf/callback` on each rank's
-// own atoms (step_callback.hpp). This file is the engine class: it ties
+// migration of atoms between ranks; pfill's own step rules (the pair
+// forces over LAMMPS' lists, the integration, the wall) run in a `fix
+// external pf/callback` on each rank's own atoms (step_callback.hpp). This
+// file is the engine class: it ties
 // together the LAMMPS instance (lammps_session.hpp), the settings handed
 // to it (lammps_settings.hpp), the engine's indices (particle_book.hpp),
 // that callback and the reads over ranks (engine_reads.hpp): births,
@@ -67,15 +67,11 @@ class LammpsEngine final : public ParticleEngine {
 
   void set_field(const ScalarGrid& field) override {
     own_field_ = field;
-    // EngineParams::wall_offset: added to each sample as a float, as the kernels read it
-    for (float& v : own_field_.values) v += static_cast<float>(params_.wall_offset);
     field_changed(own_field_);
   }
 
-  void share_field(const ScalarGrid& field) override {
-    if (params_.wall_offset != 0) return set_field(field);
-    field_changed(field);
-  }
+  /// No copy, also with a wall offset: the callback adds it as it reads (band_field.hpp).
+  void share_field(const ScalarGrid& field) override { field_changed(field); }
 
   size_t add_particles(const std::vector<Particle>& ps) override {
     flush();
@@ -211,14 +207,13 @@ class LammpsEngine final : public ParticleEngine {
     box_ = b.box;
     for (int a = 0; a < 3; ++a) lo_[a] = b.lo[a], hi_[a] = b.hi[a];
     step_.set_clamp(lo_, hi_);
-    step_.set_pair_style(b.pair_style);
     pair_line_ = b.describe;
     step_.install("pf_step");
     box_made_ = true;
   }
 
   void field_changed(const ScalarGrid& f) {
-    step_.set_field(&f, box_made_);
+    step_.set_field(f, params_.wall_offset, box_made_);
     if (!box_made_) {
       const Vec3 hi = f.origin + Vec3{(f.dims[0] - 1) * f.spacing, (f.dims[1] - 1) * f.spacing,
                                       (f.dims[2] - 1) * f.spacing};
@@ -240,7 +235,8 @@ class LammpsEngine final : public ParticleEngine {
     while (pending_ > 0) {
       const size_t k = std::min<size_t>(pending_, 2147483647);
       step_.set_run_start(steps_);
-      lmp_->command("run " + std::to_string(k) + " pre " + (dirty_ ? "yes" : "no") + " post no");
+      lmp_->command("run " + std::to_string(k) + " pre " + (dirty_ ? "yes" : "no") + " post " +
+                    (lmp_->logging() ? "yes" : "no"));
       steps_ += k;
       pending_ -= k;
       dirty_ = false;

@@ -54,9 +54,13 @@ LammpsSession::LammpsSession() {
   comm_ = MPI_COMM_WORLD;
   MPI_Comm_rank(comm_, &rank_);
   MPI_Comm_size(comm_, &ranks_);
+  // PFILL_LAMMPS_LOG=FILE: LAMMPS' own log (rank 0), with each run's timing breakdown.
+  const char* log = std::getenv("PFILL_LAMMPS_LOG");
+  log_ = log && *log;
   const char* args[] = {"pfill", "-log", "none", "-screen", "none", "-nocite"};
   lmp_ = lammps_open(6, const_cast<char**>(args), comm_, nullptr);
   if (!lmp_) throw Error("LAMMPS could not be started");
+  if (log_) command(std::string("log ") + log + " append");  // every engine of the fill into one file
 }
 
 LammpsSession::~LammpsSession() {

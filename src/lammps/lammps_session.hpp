@@ -48,6 +48,8 @@ class LammpsSession {
   int rank() const { return rank_; }
   int ranks() const { return ranks_; }
   int version() const { return lammps_version(lmp_); }
+  /// PFILL_LAMMPS_LOG is set: runs print LAMMPS' timing breakdown (`post yes`) to it.
+  bool logging() const { return log_; }
 
   void command(const std::string& c) { lammps_command(lmp_, c.c_str()); }
   void commands(const std::string& lines) { lammps_commands_string(lmp_, lines.c_str()); }
@@ -90,6 +92,7 @@ class LammpsSession {
   void* lmp_ = nullptr;
   MPI_Comm comm_;
   int rank_ = 0, ranks_ = 1;
+  bool log_ = false;
 };
 
 }  // namespace lammps_engine

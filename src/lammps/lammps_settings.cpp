@@ -42,38 +42,12 @@ void refuse_no_box(const Box3& inner) {
                   " is not a box (finite, lo <= hi on each axis)");
 }
 
-/// The potential: 4 eps [(sigma/d)^a - (sigma/d)^b], cut at rc (the
-/// minimum for the purely repulsive default), shifted to 0 there, as
-/// `pair_style` and `pair_coeff` lines; its style's name into `style`.
-std::string pair_commands(LammpsSession& lmp, const EngineParams& params, const EngineConstants& c,
-                          std::string& style) {
-  const double rc = c.cutoff;
-  const double a = params.exponent_a, b = params.exponent_b;
-  std::string pair, coeff;
-  if (a == 12 && b == 6) {
-    style = "lj/cut";
-    pair = "lj/cut " + num(rc);
-    coeff = num(params.eps) + " " + num(c.sigma) + " " + num(rc);
-  } else {
-    if (!lammps_has_style(lmp.handle(), "pair", "mie/cut"))
-      throw Error("lammps engine: exponents other than 12,6 need LAMMPS' mie/cut pair style, which this LAMMPS lacks");
-    // mie/cut: C eps' [(s/d)^a - (s/d)^b], C = a/(a-b) (a/b)^(b/(a-b)); pfill's prefactor is 4 eps.
-    const double cm = a / (a - b) * std::pow(a / b, b / (a - b));
-    style = "mie/cut";
-    pair = "mie/cut " + num(rc);
-    coeff = num(4 * params.eps / cm) + " " + num(c.sigma) + " " + num(a) + " " + num(b) + " " + num(rc);
-  }
-  return "pair_style " + pair + "\npair_coeff * * " + coeff + "\npair_modify shift yes\n";
-}
-
 }  // namespace
 
 EngineConstants checked_constants(const EngineParams& params) {
   EngineConstants constants = derive_constants(params);
   const double a = params.exponent_a, b = params.exponent_b;
   if (!(a == 12 && b == 6) && !(a > b && b > 0)) throw Error("lammps engine: exponents must satisfy a > b > 0");
-  if (params.force_cap > 0)
-    throw Error("lammps engine: a pair force cap (force_cap) is not available on LAMMPS; leave it 0");
   return constants;
 }
 
@@ -95,18 +69,20 @@ BoxSettings set_up_box(LammpsSession& lmp, const EngineParams& params, const Eng
       << "newton off\n"
       << "region pf_box block " << lo.x << " " << hi.x << " " << lo.y << " " << hi.y << " " << lo.z << " " << hi.z
       << "\ncreate_box 1 pf_box\n";
-  // The contact dashpot is pfill's own (the callback, over this pair
-  // style's list): with `newton off` a pair across ranks is listed on
-  // both, so each rank can apply it to its own atom without a reverse
-  // communication.
-  cmd << pair_commands(lmp, params, c, out.pair_style);
+  // The pair forces are pfill's own (the callback, over this style's list,
+  // in one pass with the dashpot): with `newton off` a pair across ranks is
+  // listed on both, so each rank applies it to its own atom without a
+  // reverse communication. `zero` builds the list to the cutoff plus the
+  // skin and computes nothing.
+  cmd << "pair_style zero " << num(c.cutoff) << "\npair_coeff * *\n";
   const double skin = (params.skin_sigma > 0 ? params.skin_sigma : kCpuFormSkinSigma) * c.sigma;
   refuse_too_many_bins(hi - lo, c.cutoff + skin, lmp.ranks());
   cmd << "neighbor " << num(skin) << " bin\nneigh_modify delay 0 every 1 check yes\n"
       << "fix " << fix_id << " all external pf/callback 1 1\n"
       << "timestep " << num(c.dt) << "\n"
       << "thermo_style custom step\nthermo 0\nthermo_modify lost ignore norm no\n";
-  out.describe = out.pair_style + " + pfill's contact dashpot in the callback, skin " + num(skin / c.sigma) + " sigma";
+  out.describe = "pfill's pair forces and contact dashpot in the callback over LAMMPS' lists (pair_style zero), skin " +
+                 num(skin / c.sigma) + " sigma";
   lmp.commands(cmd.str());
   return out;
 }

@@ -1,8 +1,8 @@
 // What the LAMMPS engine hands LAMMPS before any atom (docs/lammps_engine.md
 // "The physics, mapped onto LAMMPS"): the parameters it refuses, in one
 // line and before LAMMPS could stop the program on them; and the box, the
-// potential's pair style, the neighbour lists and the callback's fix, as
-// LAMMPS commands.
+// pair style whose list the callback walks, the neighbour lists and the
+// callback's fix, as LAMMPS commands.
 #pragma once
 #ifdef PFILL_WITH_LAMMPS
 #include <string>
@@ -22,7 +22,6 @@ EngineConstants checked_constants(const EngineParams& params);
 struct BoxSettings {
   Box3 box;                                     ///< LAMMPS' box: the inner box and a margin
   double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  ///< atoms are clamped into this, a little inside `box`
-  std::string pair_style;                       ///< "lj/cut" or "mie/cut": whose list the dashpot walks
   std::string describe;                         ///< the engine's line on its potential and lists
 };
 

@@ -10,6 +10,19 @@
 
 namespace pfill {
 namespace lammps_engine {
+namespace {
+
+// physics.cl's wall push and reflection, over the field in bricks.
+using namespace physics;
+#define PF_FN inline
+#define PF_WALL_ITERATIONS kWallIterations
+#define PF_SAMPLE_BAND(PX, PY, PZ, G, LANES) field.sample(PX, PY, PZ, G)
+PF_DEFINE_WALL_PUSH(band_wall_push, double, int, PF_ANY1, PF_SAMPLE_BAND, pf_wall_velocity_change, BandField& field)
+#undef PF_SAMPLE_BAND
+#undef PF_WALL_ITERATIONS
+#undef PF_FN
+
+}  // namespace
 
 void StepCallback::install(const char* fix_id) {
   lammps_set_fix_external_callback(
@@ -24,25 +37,14 @@ void StepCallback::set_clamp(const double lo[3], const double hi[3]) {
   for (int a = 0; a < 3; ++a) lo_[a] = lo[a], hi_[a] = hi[a];
 }
 
-void StepCallback::set_field(const ScalarGrid* field, bool atoms_exist) {
-  field_ = field;
-  const ScalarGrid& f = *field;
-  // The trilinear interpolant's slope is at most the norm of the largest
-  // sample differences along x, y, z over the spacing.
-  double dmax[3] = {0, 0, 0};
-  for (int k = 0; k < f.dims[2]; ++k)
-    for (int j = 0; j < f.dims[1]; ++j)
-      for (int i = 0; i < f.dims[0]; ++i) {
-        const double v = f.at(i, j, k);
-        if (i + 1 < f.dims[0]) dmax[0] = std::max(dmax[0], std::fabs(f.at(i + 1, j, k) - v));
-        if (j + 1 < f.dims[1]) dmax[1] = std::max(dmax[1], std::fabs(f.at(i, j + 1, k) - v));
-        if (k + 1 < f.dims[2]) dmax[2] = std::max(dmax[2], std::fabs(f.at(i, j, k + 1) - v));
-      }
-  lipschitz_ = 1.0001 * std::sqrt(dmax[0] * dmax[0] + dmax[1] * dmax[1] + dmax[2] * dmax[2]) / f.spacing;
+void StepCallback::set_field(const ScalarGrid& f, double offset, bool atoms_exist) {
+  // Bricks deeper than two of the largest radii: no sphere there reaches the wall.
+  field_ = std::make_unique<BandField>(f, offset, 2 * constants_.max_radius);
+  lipschitz_ = field_->lipschitz();
   // Bounds kept from another field mean nothing: every atom samples the new one first.
   if (atoms_exist && session_.nlocal() > 0) {
     double** omega = session_.atoms<double**>("omega");
-    for (int i = 0; i < session_.nlocal(); ++i) omega[i][0] = 0;
+    for (int i = 0; i < session_.nlocal(); ++i) omega[i][0] = 0, omega[i][1] = -1;
   }
 }
 
@@ -54,26 +56,32 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   // step number): that is no step.
   if (step <= static_cast<int64_t>(run_start_)) return;
   const EngineConstants& c = constants_;
-  double** f = session_.atoms<double**>("f");
   double** v = session_.atoms<double**>("v");
   double* radius = session_.atoms<double*>("radius");
   double* rmass = session_.atoms<double*>("rmass");
   double** omega = session_.atoms<double**>("omega");
   LocalRecord rec;
   rec.particles = nlocal;
-  rec.colliding_pairs = contacts(nlocal, x, v, radius, rmass);
+  rec.colliding_pairs = pair_forces(nlocal, x, v, radius, rmass);
   // LAMMPS' step `step` is the engine's step step - 1 (the first run's first is 1).
   const uint64_t index = static_cast<uint64_t>(step) - 1;
   const bool fire = fire_.on(), restart = fire_.restarts_at(index);
   // FIRE: a step's move stays within the cap, whatever its dt (the kernels' PF_STEP_CAP / dt).
   const double fire_cap = fire ? c.max_speed * c.dt / fire_.dt() : 0;
   double power = 0;  // FIRE: sum F.v over this rank's atoms at the step's start
+  // The wall's reads miss the cache: ahead of the loop, the corners in the
+  // brick each atom last read (omega[j][1]) where it may read again.
+  const double reach = field_ ? lipschitz_ * c.max_speed * c.dt : 0;  // (every step moves within the cap)
+  auto ahead = [&](int j) {
+    if (j < nlocal && omega[j][0] + reach >= -radius[j])
+      field_->prefetch(x[j][0], x[j][1], x[j][2], static_cast<int32_t>(omega[j][1]));
+  };
   for (int i = 0; i < nlocal; ++i) {
+    if (field_) ahead(i + 8);
     double u[3] = {v[i][0], v[i][1], v[i][2]};
     double p[3] = {x[i][0], x[i][1], x[i][2]};
     const double p0[3] = {p[0], p[1], p[2]};
-    const double* fd = &dashpot_[3 * static_cast<size_t>(i)];
-    const double F[3] = {f[i][0] + fd[0], f[i][1] + fd[1], f[i][2] + fd[2]};
+    const double* F = &force_[3 * static_cast<size_t>(i)];
     if (fire) {
       double pi = 0;
       physics::pf_fire_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], F[0], F[1], F[2], 1 / rmass[i],
@@ -83,7 +91,7 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
       physics::pf_kick_drift(&u[0], &u[1], &u[2], &p[0], &p[1], &p[2], F[0], F[1], F[2], 1 / rmass[i], c.dt,
                              c.damping_factor, c.max_speed);
     }
-    if (field_) wall(tags[i], p, p0, u, radius[i], omega[i][0], rec);
+    if (field_) wall(tags[i], p, p0, u, radius[i], omega[i], rec);
     // Never past the box (LAMMPS would lose the atom): the wall brings it back.
     for (int a = 0; a < 3; ++a) p[a] = std::min(std::max(p[a], lo_[a]), hi_[a]);
     x[i][0] = p[0], x[i][1] = p[1], x[i][2] = p[2];
@@ -98,9 +106,11 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   local_history_.push_back(rec);
 }
 
-void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double& omega,
+void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double* om,
                         LocalRecord& rec) {
-  const ScalarGrid& field = *field_;
+  double& omega = om[0];
+  BandField& field = *field_;
+  const ScalarGrid& grid = field.grid();
   // omega[i][0] (rotation is not integrated) keeps a bound on the
   // field's value at the atom: its last sample plus the field's slope
   // times the moves since. While that bound says the sphere cannot reach
@@ -114,34 +124,49 @@ void StepCallback::wall(int tag, double* p, const double* p0, double* u, double 
     omega = moved_bound;
     return;
   }
-  double g[3];
-  const double phi = physics::sample(field, p[0], p[1], p[2], g);
-  const double gx = (p[0] - field.origin.x) / field.spacing, gy = (p[1] - field.origin.y) / field.spacing,
-               gz = (p[2] - field.origin.z) / field.spacing;
+  const double gx = (p[0] - grid.origin.x) / grid.spacing, gy = (p[1] - grid.origin.y) / grid.spacing,
+               gz = (p[2] - grid.origin.z) / grid.spacing;
   const bool outside_box =
-      gx < 0 || gy < 0 || gz < 0 || gx > field.dims[0] - 1 || gy > field.dims[1] - 1 || gz > field.dims[2] - 1;
+      gx < 0 || gy < 0 || gz < 0 || gx > grid.dims[0] - 1 || gy > grid.dims[1] - 1 || gz > grid.dims[2] - 1;
+  double g[3], phi = 0;
+  if (outside_box) {
+    phi = field.sample(p[0], p[1], p[2], g);
+  } else if (int32_t slot = -1; field.sample_unless_deep(p[0], p[1], p[2], g, phi, slot)) {
+    om[1] = slot;  // (omega's other components are free: rotation is not integrated)
+  } else {
+    // In a deep brick the sample is below -band (< -r): no push, no flag, and -band bounds it.
+    omega = -2 * constants_.max_radius;
+    return;
+  }
   if (phi > 0 || outside_box) {
     ++rec.flagged;
     flagged_tags_.insert(tag);
   }
-  omega = physics::wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius, radius,
-                             params_.wall_restitution, field);
+  omega = band_wall_push(&p[0], &p[1], &p[2], &u[0], &u[1], &u[2], phi, g, phi > -radius, radius,
+                         params_.wall_restitution, field);
 }
 
-/// Over this rank's pair list (the pair style's, `newton off`: a pair
-/// with a ghost is listed on both its ranks): the contact dashpot of
-/// physics.cl on this rank's atoms into dashpot_, and the pairs whose
-/// spheres overlap (d < r_i + r_j; a pair with a ghost counts half, so
-/// the sum over ranks counts it once). Positions and velocities are the
-/// step's start (ghosts' from this step's communication).
-double StepCallback::contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
-  dashpot_.assign(3 * static_cast<size_t>(nlocal), 0.0);
+/// Over this rank's pair list (`pair_style zero`'s, `newton off`: a pair
+/// with a ghost is listed on both its ranks, so each rank applies it to
+/// its own atom, with no reverse communication): physics.cl's pair force
+/// (the potential, capped, and the contact dashpot, as the reference
+/// engine sums them) on this rank's atoms into force_, and the pairs whose
+/// spheres overlap (d < r_i + r_j; a pair with a ghost counts half, so the
+/// sum over ranks counts it once). One pass over the list: LAMMPS computes
+/// no pair force (a second pass over the same list cost as much as this).
+/// Positions and velocities are the step's start (ghosts' from this step's
+/// communication).
+double StepCallback::pair_forces(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
+  force_.assign(3 * static_cast<size_t>(nlocal), 0.0);
   void* lmp = session_.handle();
-  const int list = lammps_find_pair_neighlist(lmp, pair_style_.c_str(), 1, 0, 0);
+  const int list = lammps_find_pair_neighlist(lmp, "zero", 1, 0, 0);
   if (list < 0) return 0;
   const EngineConstants& c = constants_;
+  const double sigma2 = c.sigma * c.sigma, rc2 = c.cutoff * c.cutoff, dmin = 1e-3f * c.sigma;
   const double contact2 = c.contact_distance * c.contact_distance;
+  const double a = params_.exponent_a, b = params_.exponent_b, eps = params_.eps;
   const bool damp = c.dashpot > 0;
+  const int* tag = session_.atoms<int*>("id");
   const int n = lammps_neighlist_num_elements(lmp, list);
   double count = 0;
   for (int e = 0; e < n; ++e) {
@@ -150,25 +175,32 @@ double StepCallback::contacts(int nlocal, double** x, double** v, const double* 
     lammps_neighlist_element_neighbors(lmp, list, e, &i, &nn, &neigh);
     if (i >= nlocal) continue;
     const double* xi = x[i];
+    double* fi = &force_[3 * static_cast<size_t>(i)];
     for (int k = 0; k < nn; ++k) {
       const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
-      const double dx = xi[0] - x[j][0], dy = xi[1] - x[j][1], dz = xi[2] - x[j][2];
-      const double d2 = dx * dx + dy * dy + dz * dz;
+      double d[3] = {xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]};
+      double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
       const double rs = radius[i] + radius[j];
-      if (d2 >= std::max(rs * rs, contact2)) continue;
+      if (d2 >= std::max(rc2, rs * rs)) continue;
       const bool mine = j < nlocal;
-      if (d2 < rs * rs) count += mine ? 1 : 0.5;
-      if (!damp || !(d2 > 0)) continue;
-      const double inv_d = 1 / std::sqrt(d2);
-      const double nx = dx * inv_d, ny = dy * inv_d, nz = dz * inv_d;
-      const double un = (v[i][0] - v[j][0]) * nx + (v[i][1] - v[j][1]) * ny + (v[i][2] - v[j][2]) * nz;
-      // equal radii: the pair scale is 1 (unequal radii on LAMMPS: not yet)
-      const double cd = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0);
-      double* fi = &dashpot_[3 * static_cast<size_t>(i)];
-      fi[0] += cd * nx, fi[1] += cd * ny, fi[2] += cd * nz;
+      // equal radii: the pair scales are 1 (unequal radii on LAMMPS: not yet)
+      physics::pf_apart(&d[0], &d[1], &d[2], &d2, d2 < dmin * dmin, tag[j] > tag[i], dmin);
+      double fp = physics::pf_lj_force_scale(d2, sigma2, eps, a, b, c.a_half, c.b_half, rc2, c.force_cap, 1.0);
+      double fn = 0;  // the dashpot, along n = d / |d|
+      if (d2 < std::max(rs * rs, contact2)) {
+        if (d2 < rs * rs) count += mine ? 1 : 0.5;
+        if (damp) {
+          const double inv_d = 1 / std::sqrt(d2);
+          const double un =
+              ((v[i][0] - v[j][0]) * d[0] + (v[i][1] - v[j][1]) * d[1] + (v[i][2] - v[j][2]) * d[2]) * inv_d;
+          fn = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0) * inv_d;
+        }
+      }
+      fp += fn;
+      fi[0] += fp * d[0], fi[1] += fp * d[1], fi[2] += fp * d[2];
       if (mine) {
-        double* fj = &dashpot_[3 * static_cast<size_t>(j)];
-        fj[0] -= cd * nx, fj[1] -= cd * ny, fj[2] -= cd * nz;
+        double* fj = &force_[3 * static_cast<size_t>(j)];
+        fj[0] -= fp * d[0], fj[1] -= fp * d[1], fj[2] -= fp * d[2];
       }
     }
   }

@@ -1,18 +1,21 @@
 // The LAMMPS engine's step (docs/lammps_engine.md "The physics, mapped onto
 // LAMMPS"): the callback of `fix external pf/callback`, called at
-// post_force with LAMMPS' pair forces of the step in atom->f, runs pfill's
-// own rules (kernels/physics.cl in double precision) on this rank's atoms:
-// the contact dashpot over the pair style's neighbour list, the kick and
+// post_force, runs pfill's own rules (kernels/physics.cl in double
+// precision) on this rank's atoms: the pair forces (the potential and the
+// contact dashpot) over LAMMPS' neighbour list (`pair_style zero`: LAMMPS
+// builds the list and computes no force), the kick and
 // drift with the damping and the speed cap (or FIRE's step:
 // fire_minimiser.hpp), the wall's push from the signed distance field, and
 // the per-step records of this rank.
 #pragma once
 #ifdef PFILL_WITH_LAMMPS
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <unordered_set>
 #include <vector>
 
+#include "lammps/band_field.hpp"
 #include "lammps/fire_minimiser.hpp"
 #include "lammps/lammps_session.hpp"
 #include "pfill/engine/params.hpp"
@@ -40,12 +43,11 @@ class StepCallback {
   void install(const char* fix_id);
   /// Atoms are clamped into [lo, hi] after each step (LAMMPS drops atoms past its box).
   void set_clamp(const double lo[3], const double hi[3]);
-  /// The pair style whose neighbour list the dashpot walks ("lj/cut", "mie/cut").
-  void set_pair_style(const std::string& name) { pair_style_ = name; }
-  /// The field of the wall (null: no wall); with `atoms_exist`, this rank's
-  /// atoms' kept bounds on the field are reset, so each samples the new one.
-  void set_field(const ScalarGrid* field, bool atoms_exist);
-  const ScalarGrid* field() const { return field_; }
+  /// The field of the wall (it must outlive the callback), moved in by
+  /// `offset` (EngineParams::wall_offset, added to each sample as the
+  /// kernels add it); with `atoms_exist`, this rank's atoms' kept bounds on
+  /// the field are reset, so each samples the new one.
+  void set_field(const ScalarGrid& field, double offset, bool atoms_exist);
   /// The step number a `run` starts at: its set-up calls the callback at that step, which is no step.
   void set_run_start(uint64_t step) { run_start_ = step; }
 
@@ -59,21 +61,20 @@ class StepCallback {
   void on_step(int64_t step, int nlocal, int* tags, double** x, double** fext);
 
  private:
-  double contacts(int nlocal, double** x, double** v, const double* radius, const double* rmass);
+  double pair_forces(int nlocal, double** x, double** v, const double* radius, const double* rmass);
   /// The wall on atom i at p (moved from p0, velocity u): the push, the
-  /// flag, and omega's bound on the field there.
-  void wall(int tag, double* p, const double* p0, double* u, double radius, double& omega, LocalRecord& rec);
+  /// flag, and in its omega (`om`) the bound on the field there and the brick last read.
+  void wall(int tag, double* p, const double* p0, double* u, double radius, double* om, LocalRecord& rec);
 
   const EngineParams& params_;
   const EngineConstants& constants_;
   LammpsSession& session_;
-  std::string pair_style_ = "lj/cut";
-  const ScalarGrid* field_ = nullptr;
+  std::unique_ptr<BandField> field_;  // null: no wall
   double lipschitz_ = 2;  // the field interpolant's largest slope
   double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0};
   uint64_t run_start_ = 0;
   std::vector<LocalRecord> local_history_;
-  std::vector<double> dashpot_;           // the contact dashpot's force on each of this rank's atoms, this step
+  std::vector<double> force_;             // the pair forces (potential and dashpot) on this rank's atoms, this step
   std::unordered_set<int> flagged_tags_;  // this rank's atoms flagged outside since clear_flags
   FireMinimiser fire_;
 };

@@ -1,0 +1,136 @@
+// The wall's field in bricks, made on first use: see band_field.hpp.
+#ifdef PFILL_WITH_LAMMPS
+#include "lammps/band_field.hpp"
+
+#include <sys/mman.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+
+#include "../../kernels/physics_double.hpp"
+
+namespace pfill {
+namespace lammps_engine {
+namespace {
+
+constexpr size_t kChunkBytes = size_t(2) << 20;
+
+}  // namespace
+
+void BandField::FreeChunk::operator()(float* p) const { std::free(p); }
+
+BandField::BandField(const ScalarGrid& field, double offset, double band)
+    : field_(field), offset_(static_cast<float>(offset)), band_(band) {
+  for (int a = 0; a < 3; ++a) nb_[a] = (field.dims[a] - 2) / kCells + 1;  // cells 0 .. dims - 2
+  index_.assign(static_cast<size_t>(nb_[0]) * nb_[1] * nb_[2], kDeep);
+  // The slope: at most the norm of the largest sample differences along x,
+  // y, z over the spacing (every pair of neighbouring samples lies in a brick).
+  double dmax[3] = {0, 0, 0};
+  float v[kSide * kSide * kSide];
+  for (size_t b = 0; b < index_.size(); ++b) {
+    read_brick(b, v);
+    float top = -INFINITY;
+    for (int z = 0; z < kSide; ++z)
+      for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x) {
+          const float* s = v + x + kSide * (y + kSide * z);
+          top = std::max(top, *s);
+          const double s0 = s[0];
+          if (x + 1 < kSide) dmax[0] = std::max(dmax[0], std::fabs(s[1] - s0));
+          if (y + 1 < kSide) dmax[1] = std::max(dmax[1], std::fabs(s[kSide] - s0));
+          if (z + 1 < kSide) dmax[2] = std::max(dmax[2], std::fabs(s[kSide * kSide] - s0));
+        }
+    if (top > -band_) {
+      index_[b] = static_cast<int32_t>(bricks_.size());
+      bricks_.push_back(static_cast<int32_t>(b));
+    }
+  }
+  lipschitz_ = 1.0001 * std::sqrt(dmax[0] * dmax[0] + dmax[1] * dmax[1] + dmax[2] * dmax[2]) / field.spacing;
+  chunks_.resize((bricks_.size() + kChunkMask) >> kChunkShift);
+}
+
+BandField::~BandField() = default;
+
+size_t BandField::bytes() const {
+  size_t n = index_.size() * sizeof(int32_t) + bricks_.size() * sizeof(int32_t);
+  for (const auto& c : chunks_) n += c ? kChunkBytes : 0;
+  return n;
+}
+
+void BandField::read_brick(size_t b, float* v) const {
+  const ScalarGrid& f = field_;
+  const int bi = static_cast<int>(b % nb_[0]), bj = static_cast<int>(b / nb_[0] % nb_[1]),
+            bk = static_cast<int>(b / nb_[0] / nb_[1]);
+  for (int z = 0; z < kSide; ++z)
+    for (int y = 0; y < kSide; ++y) {
+      const int j = std::min(bj * kCells + y, f.dims[1] - 1), k = std::min(bk * kCells + z, f.dims[2] - 1);
+      for (int x = 0; x < kSide; ++x)
+        v[x + kSide * (y + kSide * z)] = f.at(std::min(bi * kCells + x, f.dims[0] - 1), j, k) + offset_;
+    }
+}
+
+void BandField::fill_chunk(int32_t chunk) {
+  void* p = std::aligned_alloc(kChunkBytes, kChunkBytes);
+  if (!p) throw std::bad_alloc();
+  madvise(p, kChunkBytes, MADV_HUGEPAGE);  // one TLB entry for 4,096 bricks, where the kernel allows
+  float* values = static_cast<float*>(p);
+  const size_t first = static_cast<size_t>(chunk) << kChunkShift;
+  for (size_t s = first; s < std::min(bricks_.size(), first + kChunkMask + 1); ++s)
+    read_brick(static_cast<size_t>(bricks_[s]), values + (s - first) * kBrickFloats);
+  chunks_[static_cast<size_t>(chunk)].reset(values);
+}
+
+/// pf_sdf_sample's cell and fractions at p (physics.cl), in its operations.
+BandField::Cell BandField::cell_at(double px, double py, double pz) const {
+  const ScalarGrid& f = field_;
+  const double inv = 1 / f.spacing;
+  const double gx = std::fmin(std::fmax((px - f.origin.x) * inv, 0.0), static_cast<double>(f.dims[0] - 1));
+  const double gy = std::fmin(std::fmax((py - f.origin.y) * inv, 0.0), static_cast<double>(f.dims[1] - 1));
+  const double gz = std::fmin(std::fmax((pz - f.origin.z) * inv, 0.0), static_cast<double>(f.dims[2] - 1));
+  Cell c;
+  c.i = std::min(static_cast<int>(std::floor(gx)), f.dims[0] - 2);
+  c.j = std::min(static_cast<int>(std::floor(gy)), f.dims[1] - 2);
+  c.k = std::min(static_cast<int>(std::floor(gz)), f.dims[2] - 2);
+  c.tx = gx - c.i, c.ty = gy - c.j, c.tz = gz - c.k;
+  return c;
+}
+
+bool BandField::sample_unless_deep(double px, double py, double pz, double* g, double& phi, int32_t& slot) {
+  const Cell c = cell_at(px, py, pz);
+  const int32_t b = brick(c.i, c.j, c.k);
+  if (b == kDeep) return false;
+  slot = b;
+  const float* s = corners(c, b);
+  constexpr int sy = kSide, sz = kSide * kSide;
+  phi = physics::pf_trilinear(s[0], s[1], s[sy], s[sy + 1], s[sz], s[sz + 1], s[sy + sz], s[sy + sz + 1], c.tx, c.ty,
+                              c.tz, 1 / field_.spacing, g);
+  return true;
+}
+
+double BandField::sample(double px, double py, double pz, double* g) {
+  double phi = 0;
+  int32_t slot = 0;
+  if (sample_unless_deep(px, py, pz, g, phi, slot)) return phi;
+  // (the wall's push never samples so deep; exact all the same)
+  const Cell c = cell_at(px, py, pz);
+  double v[8];
+  for (int n = 0; n < 8; ++n) v[n] = field_.at(c.i + (n & 1), c.j + ((n >> 1) & 1), c.k + ((n >> 2) & 1)) + offset_;
+  return physics::pf_trilinear(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], c.tx, c.ty, c.tz, 1 / field_.spacing,
+                               g);
+}
+
+void BandField::prefetch(double px, double py, double pz, int32_t slot) const {
+  if (slot < 0 || static_cast<size_t>(slot) >= bricks_.size() || !chunks_[static_cast<size_t>(slot >> kChunkShift)])
+    return;
+  const Cell c = cell_at(px, py, pz);  // (in another brick since: a useless hint, no harm)
+  const float* s = chunks_[static_cast<size_t>(slot >> kChunkShift)].get() + (slot & kChunkMask) * kBrickFloats +
+                   (c.i % kCells) + kSide * ((c.j % kCells) + kSide * (c.k % kCells));
+  __builtin_prefetch(s);
+  __builtin_prefetch(s + kSide * kSide + kSide + 1);
+}
+
+}  // namespace lammps_engine
+}  // namespace pfill
+#endif
