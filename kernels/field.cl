@@ -108,8 +108,10 @@ float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, flo
   const float8 gx = fmin(fmax((px - origin.x) * inv_spacing, 0.0f), (float)(dims.x - 1));
   const float8 gy = fmin(fmax((py - origin.y) * inv_spacing, 0.0f), (float)(dims.y - 1));
   const float8 gz = fmin(fmax((pz - origin.z) * inv_spacing, 0.0f), (float)(dims.z - 1));
-  const int8 i = min(convert_int8(floor(gx)), dims.x - 2), j = min(convert_int8(floor(gy)), dims.y - 2),
-             k = min(convert_int8(floor(gz)), dims.z - 2);
+  /* (vector bounds, not min(int8, int): oclgrind gave some lanes garbage
+   * there, and those lanes read out of the field) */
+  const int8 i = min(convert_int8(floor(gx)), (int8)(dims.x - 2)), j = min(convert_int8(floor(gy)), (int8)(dims.y - 2)),
+             k = min(convert_int8(floor(gz)), (int8)(dims.z - 2));
   const float8 tx = gx - convert_float8(i), ty = gy - convert_float8(j), tz = gz - convert_float8(k);
   const int sy = dims.x, sz = dims.x * dims.y;
   const int8 base = i + dims.x * (j + dims.y * k);

@@ -1,10 +1,9 @@
 // The neighbour grid in a box mostly outside the object: cells a sphere
 // cannot reach have no slots (CellGrid::set_domain, reachable_cells), and
-// the lists must miss nothing for it. Not run under oclgrind: there this
-// case (or test_engine_small's with it appended) now and then reports
-// field reads out of bounds in `advance`, with the engine of e47bfda too,
-// before the grid had any table (docs/benchmarks.md, 2026-12-05 fourth
-// section); not found.
+// the lists must miss nothing for it. Small, so that it runs under
+// oclgrind too (tests/CMakeLists.txt); there it found the field gather's
+// bounds given as min(int8, int), whose lanes oclgrind filled with garbage
+// now and then (kernels/field.cl, 2026-12-05).
 #include <doctest/doctest.h>
 
 #include <algorithm>
