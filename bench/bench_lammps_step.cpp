@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "fill/fill_plan.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/fill.hpp"
@@ -34,20 +35,9 @@ namespace {
 /// finish's FIRE relaxation (finish.cpp) when `fire`.
 EngineParams step_params(double r, bool fire) {
   const FillOptions o;
-  EngineParams p;
-  p.radius = r;
-  p.max_radius = r * (1 + 1e-6);
-  p.rest_distance = o.rest_distance * 2 * r;
-  p.eps = o.epsilon;
-  p.exponent_a = o.exponents[0];
-  p.exponent_b = o.exponents[1];
-  p.cutoff_sigma = o.cutoff;
-  p.restitution = o.restitution;
-  p.wall_restitution = o.wall_restitution;
-  p.damping = o.damping;
-  p.dt = o.time_step * derive_constants(p).tau;
-  p.max_step_fraction = o.max_step;
-  p.births_at_speed = true;
+  FillPlan plan;
+  plan.radius = plan.mean_radius = plan.max_radius = r;
+  EngineParams p = plan_engine_params(plan, o);
   if (!fire) return p;
   const double shrink = 0.5 * 0.001 * r;  // the finish's spheres, smaller by half the bound
   p.births_at_speed = false;

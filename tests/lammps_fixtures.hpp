@@ -5,8 +5,14 @@
 #include <vector>
 
 #include "pfill/engine/particle_engine.hpp"
+#include "pfill/grid.hpp"
 
 namespace pfill::test {
+
+/// A ball of radius R at the origin as a signed distance grid.
+inline ScalarGrid ball_field(double R, double spacing) {
+  return sampled_grid(R + 0.2, spacing, [R](const Vec3& p) { return length(p) - R; });
+}
 
 /// Spheres of radius 0.05 on a lattice of `spacing` inside the ball of
 /// radius R (centres 0.06 inside), each moved by up to `jitter` of the

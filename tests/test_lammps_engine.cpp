@@ -30,11 +30,6 @@ using namespace pfill;
 
 namespace {
 
-// A ball of radius R at the origin as a signed distance grid.
-ScalarGrid ball_field(double R, double spacing) {
-  return sampled_grid(R + 0.2, spacing, [R](const Vec3& p) { return length(p) - R; });
-}
-
 EngineParams small_params() {
   EngineParams p;
   p.radius = 0.05;
@@ -82,7 +77,7 @@ TEST_CASE("lammps engine: without LAMMPS built in, one line says so") {
 TEST_CASE("lammps engine: the same steps as the reference engine (positions, records, momentum)") {
   if (!lammps_available()) return;
   const EngineParams p = small_params();
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   const std::vector<Particle> start = lattice(0.5, 0.098, 7);
   REQUIRE(start.size() > 200);
 
@@ -148,7 +143,7 @@ TEST_CASE("lammps engine: momentum is conserved without a wall or damping") {
 TEST_CASE("lammps engine: births, removals, flags and ids as the reference keeps them") {
   if (!lammps_available()) return;
   const EngineParams p = small_params();
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   ReferenceEngine ref(p);
   ref.set_field(field);
   std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
@@ -261,7 +256,7 @@ TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {
 // are the verdicts of the whole set, and at 2 ranks no rank holds every atom.
 TEST_CASE("lammps engine: the births' view per rank gives every site the verdict of the whole set") {
   if (!lammps_available()) return;
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   const std::vector<Particle> start = lattice(0.5, 0.11, 5);
   std::unique_ptr<ParticleEngine> lmp = lattice_engine(field, start, 20);
   const double reach = 0.08;  // less than the lattice's spacing: room between its points
@@ -347,7 +342,7 @@ TEST_CASE("lammps engine: the first waves' newborns as on one process") {
 // sent on and still created once.
 TEST_CASE("lammps engine: births split over the ranks, booked on every rank") {
   if (!lammps_available()) return;
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   const std::vector<Particle> start = lattice(0.5, 0.11, 5);
   std::unique_ptr<ParticleEngine> lmp = lattice_engine(field, start, 5);
   const BirthView view = lmp->birth_view(0.08, false);

@@ -27,10 +27,6 @@ using namespace pfill;
 
 namespace {
 
-ScalarGrid ball_field(double R, double spacing) {
-  return sampled_grid(R + 0.2, spacing, [R](const Vec3& p) { return length(p) - R; });
-}
-
 // The finish's kind of engine: purely repulsive, FIRE, no damping.
 EngineParams fire_params() {
   EngineParams p;
@@ -62,7 +58,7 @@ void push_bits(std::vector<int>& out, double v) {
 TEST_CASE("lammps engine: FIRE steps as the reference's (positions, powers, dt, alpha, restarts)") {
   if (!lammps_available()) return;
   const EngineParams p = fire_params();
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   const std::vector<Particle> start = squeezed(0.5, 0.092, 3);
   REQUIRE(start.size() > 200);
   ReferenceEngine ref(p);
@@ -131,7 +127,7 @@ TEST_CASE("lammps engine: without FIRE the records' power is 0 and the minimiser
   EngineParams p = fire_params();
   p.fire.on = false;
   p.damping = 1;
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
   lmp->share_field(field);
   lmp->add_particles(squeezed(0.5, 0.092, 4));
@@ -150,7 +146,7 @@ TEST_CASE("lammps engine: without FIRE the records' power is 0 and the minimiser
 TEST_CASE("lammps engine: FIRE's state the same on every rank, step for step") {
   if (!lammps_available()) return;
   const EngineParams p = fire_params();
-  const ScalarGrid field = ball_field(0.5, 0.02);
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
   const std::vector<Particle> start = squeezed(0.5, 0.092, 5);
   std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
   lmp->share_field(field);

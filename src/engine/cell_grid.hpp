@@ -29,8 +29,6 @@ class CellGrid {
   /// reach (reachable_cells.hpp), found through a table (cells.cl
   /// PF_NO_BLOCK); without one, every cell has slots.
   void set_domain(const Box3& box, const ScalarGrid* field = nullptr);
-  /// The cells with slots of their own, over all levels.
-  size_t blocks() const { return blocks_; }
   /// Room for `cap` particles' first-into words (empties the cells).
   void reserve(size_t cap);
   /// Both sets of counts empty, and nothing left for a step to empty.
@@ -61,7 +59,7 @@ class CellGrid {
 
   static constexpr cl_uint kNoBlock = 0x80000000u;  // cells.cl PF_NO_BLOCK
   size_t total_ = 0;
-  size_t blocks_ = 0;
+  size_t blocks_ = 0;  // cells with slots of their own, over all levels
   bool has_domain_ = false;
 };
 
