@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "fill/site_verdicts.hpp"
 #include "lammps/birth_tally.hpp"
 #include "pfill/birth_sites.hpp"
 #include "lammps_fixtures.hpp"
@@ -252,7 +253,7 @@ TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {
 
 // Issue 31: the births' room test per rank. Each site is decided by the one
 // rank whose sub-domain holds it, on that rank's atoms and the others'
-// within the reach of its sub-domain: the verdicts summed over the ranks
+// within the reach of its sub-domain: the verdicts shared over the ranks
 // are the verdicts of the whole set, and at 2 ranks no rank holds every atom.
 TEST_CASE("lammps engine: the births' view per rank gives every site the verdict of the whole set") {
   if (!lammps_available()) return;
@@ -282,13 +283,37 @@ TEST_CASE("lammps engine: the births' view per rank gives every site the verdict
     deciders[k] = mine.decides(sites[k].position) ? 1 : 0;
     got[k] = deciders[k] && near.has_room(sites[k].position) ? 1 : 0;
   }
-  if (!mine.complete()) lmp->sum_over_processes(got), lmp->sum_over_processes(deciders);
+  share_verdicts(*lmp, mine, got);  // as the fill shares them: the sites with room, gathered
+  if (!mine.complete()) lmp->sum_over_processes(deciders);
   int with_room = 0;
   for (size_t k = 0; k < sites.size(); ++k) with_room += expected[k];
   INFO(sites.size() << " sites, " << with_room << " with room");
   CHECK(with_room > 0);
   CHECK(with_room < static_cast<int>(sites.size()));
   CHECK(deciders == std::vector<int>(sites.size(), 1));
+  CHECK(got == expected);
+}
+
+// The verdicts' gather: every rank's values, in rank order, on every
+// rank, whatever each rank's count (rank r gives r + 1 values, rank 1 none
+// when there are 3 or more).
+TEST_CASE("lammps engine: a gather over the ranks gives every rank's values in rank order") {
+  if (!lammps_available()) return;
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(small_params());
+  const MpiWorld world = lammps_mpi_start();
+  auto given = [&](int r) {
+    std::vector<uint64_t> v;
+    if (r == 1 && world.size > 2) return v;
+    for (int k = 0; k <= r; ++k) v.push_back(1000 * static_cast<uint64_t>(r) + static_cast<uint64_t>(k) + (1ull << 40));
+    return v;
+  };
+  std::vector<uint64_t> expected;
+  for (int r = 0; r < world.size; ++r) {
+    const std::vector<uint64_t> v = given(r);
+    expected.insert(expected.end(), v.begin(), v.end());
+  }
+  std::vector<uint64_t> got = given(world.rank);
+  lmp->gather_over_processes(got);
   CHECK(got == expected);
 }
 

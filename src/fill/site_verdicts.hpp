@@ -8,6 +8,7 @@
 // newborns in flight) is then applied on every process alike.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "pfill/birth_sites.hpp"
@@ -24,10 +25,18 @@ void mark_sites_with_room(const BirthView& view, const std::vector<BirthSite>& s
     if (view.decides(sites[k].position) && has_room(sites[k].position)) verdicts[first + k] = 1;
 }
 
-/// Every process's verdicts, summed (each site has one deciding process):
-/// one MPI_Allreduce on the LAMMPS engine at P > 1, nothing on one process.
+/// Every process's verdicts on every process (each site has one deciding
+/// process). Only the sites with room travel (an MPI_Allgatherv of their
+/// indices on the LAMMPS engine at P > 1): a wave's births, not one int
+/// for each of the sites (1.7e8 room sites at 1e9 spheres). Nothing on one
+/// process.
 inline void share_verdicts(ParticleEngine& engine, const BirthView& view, std::vector<int>& verdicts) {
-  if (!view.complete()) engine.sum_over_processes(verdicts);
+  if (view.complete()) return;
+  std::vector<uint64_t> with_room;
+  for (size_t k = 0; k < verdicts.size(); ++k)
+    if (verdicts[k]) with_room.push_back(k);
+  engine.gather_over_processes(with_room);
+  for (uint64_t k : with_room) verdicts[k] = 1;
 }
 
 }  // namespace pfill

@@ -185,6 +185,9 @@ class LammpsEngine final : public ParticleEngine {
     if (lmp_->ranks() > 1 && !counts.empty())
       MPI_Allreduce(MPI_IN_PLACE, counts.data(), static_cast<int>(counts.size()), MPI_INT, MPI_SUM, lmp_->comm());
   }
+  void gather_over_processes(std::vector<uint64_t>& values) override {
+    if (lmp_->ranks() > 1) values = lmp_->gather(values);
+  }
   /// FIRE (fire_minimiser.hpp): afresh at the next step, on every rank alike.
   void restart_minimiser() override {
     flush();

@@ -109,15 +109,29 @@ void LammpsSession::delete_atoms(const std::vector<int>& tags) {
   command("group pf_gone delete");
 }
 
-std::vector<double> LammpsSession::gather(const std::vector<double>& mine) const {
-  if (ranks_ == 1) return mine;
+namespace {
+
+/// Every rank's `mine`, one after the other in rank order, on every rank.
+template <class T>
+std::vector<T> gather_all(const std::vector<T>& mine, MPI_Datatype type, int ranks, MPI_Comm comm) {
+  if (ranks == 1) return mine;
   int n = static_cast<int>(mine.size());
-  std::vector<int> counts(static_cast<size_t>(ranks_)), offsets(static_cast<size_t>(ranks_), 0);
-  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_);
-  for (int r = 1; r < ranks_; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-  std::vector<double> all(static_cast<size_t>(offsets.back() + counts.back()));
-  MPI_Allgatherv(mine.data(), n, MPI_DOUBLE, all.data(), counts.data(), offsets.data(), MPI_DOUBLE, comm_);
+  std::vector<int> counts(static_cast<size_t>(ranks)), offsets(static_cast<size_t>(ranks), 0);
+  MPI_Allgather(&n, 1, MPI_INT, counts.data(), 1, MPI_INT, comm);
+  for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
+  std::vector<T> all(static_cast<size_t>(offsets.back() + counts.back()));
+  MPI_Allgatherv(mine.data(), n, type, all.data(), counts.data(), offsets.data(), type, comm);
   return all;
+}
+
+}  // namespace
+
+std::vector<double> LammpsSession::gather(const std::vector<double>& mine) const {
+  return gather_all(mine, MPI_DOUBLE, ranks_, comm_);
+}
+
+std::vector<uint64_t> LammpsSession::gather(const std::vector<uint64_t>& mine) const {
+  return gather_all(mine, MPI_UINT64_T, ranks_, comm_);
 }
 
 void LammpsSession::throw_if_any(const std::string& error) const {

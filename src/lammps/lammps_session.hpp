@@ -13,6 +13,7 @@
 #include <mpi.h>
 #include <library.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -77,8 +78,9 @@ class LammpsSession {
   /// renumbering the others (`delete_atoms ... compress no`).
   void delete_atoms(const std::vector<int>& tags);
 
-  /// Every rank's `mine`, in rank order, on every rank.
+  /// Every rank's `mine`, in rank order, on every rank (an MPI_Allgatherv).
   std::vector<double> gather(const std::vector<double>& mine) const;
+  std::vector<uint64_t> gather(const std::vector<uint64_t>& mine) const;
 
   /// Where any rank met an error (`error` not empty there), every rank
   /// throws pfill::Error with the message of the lowest such rank, so that

@@ -84,6 +84,10 @@ class ParticleEngine {
   /// Sums `counts` element by element over the processes that share this
   /// engine (each passes as many; collective). One process: unchanged.
   virtual void sum_over_processes(std::vector<int>& counts) { (void)counts; }
+  /// Every process's `values`, one after the other in process order, into
+  /// `values` on every process (collective; each may pass a different
+  /// count). One process: unchanged.
+  virtual void gather_over_processes(std::vector<uint64_t>& values) { (void)values; }
   virtual size_t size() const = 0;          ///< particle count
   virtual uint64_t steps_done() const = 0;  ///< steps run (or enqueued)
 
