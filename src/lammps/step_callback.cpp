@@ -167,6 +167,10 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
   const double a = params_.exponent_a, b = params_.exponent_b, eps = params_.eps;
   const bool damp = c.dashpot > 0;
   const int* tag = session_.atoms<int*>("id");
+  // LAMMPS' per-atom 2-d arrays are one block with row pointers: read by
+  // offset, not through the row pointer (one dependent load less a pair).
+  const double* X = x[0];
+  const double* V = v[0];
   const int n = lammps_neighlist_num_elements(lmp, list);
   double count = 0;
   for (int e = 0; e < n; ++e) {
@@ -174,11 +178,13 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
     int* neigh = nullptr;
     lammps_neighlist_element_neighbors(lmp, list, e, &i, &nn, &neigh);
     if (i >= nlocal) continue;
-    const double* xi = x[i];
+    const double* xi = X + 3 * static_cast<size_t>(i);
+    const double* vi = V + 3 * static_cast<size_t>(i);
     double* fi = &force_[3 * static_cast<size_t>(i)];
     for (int k = 0; k < nn; ++k) {
       const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
-      double d[3] = {xi[0] - x[j][0], xi[1] - x[j][1], xi[2] - x[j][2]};
+      const double* xj = X + 3 * static_cast<size_t>(j);
+      double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
       double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
       const double rs = radius[i] + radius[j];
       if (d2 >= std::max(rc2, rs * rs)) continue;
@@ -191,8 +197,8 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
         if (d2 < rs * rs) count += mine ? 1 : 0.5;
         if (damp) {
           const double inv_d = 1 / std::sqrt(d2);
-          const double un =
-              ((v[i][0] - v[j][0]) * d[0] + (v[i][1] - v[j][1]) * d[1] + (v[i][2] - v[j][2]) * d[2]) * inv_d;
+          const double* vj = V + 3 * static_cast<size_t>(j);
+          const double un = ((vi[0] - vj[0]) * d[0] + (vi[1] - vj[1]) * d[1] + (vi[2] - vj[2]) * d[2]) * inv_d;
           fn = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0) * inv_d;
         }
       }
