@@ -4,6 +4,7 @@
 #include "pfill/device/device.hpp"
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <string>
 #include <random>
@@ -113,6 +114,24 @@ inline EngineParams test_params() {
   if (const char* inner = std::getenv("PFILL_TEST_INNER_LISTS"))
     p.inner_lists = std::string(inner) == "off" ? InnerLists::off : InnerLists::on;
   return p;
+}
+
+/// An engine's neighbour lists (`got`, any order within a list) against
+/// the reference's (`want`): how many lists differ, and how many pairs
+/// `want` lists (so a test can tell that the lists are not trivially empty).
+struct ListsCompared {
+  size_t differ = 0, pairs = 0;
+};
+inline ListsCompared compare_lists(std::vector<std::vector<uint32_t>> got, std::vector<std::vector<uint32_t>> want) {
+  ListsCompared out;
+  out.differ = got.size() == want.size() ? 0 : 1 + std::max(got.size(), want.size());
+  for (size_t i = 0; i < std::min(got.size(), want.size()); ++i) {
+    std::sort(got[i].begin(), got[i].end());
+    std::sort(want[i].begin(), want[i].end());
+    out.differ += got[i] == want[i] ? 0 : 1;
+    out.pairs += want[i].size();
+  }
+  return out;
 }
 
 }  // namespace pfill::test
