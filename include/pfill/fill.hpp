@@ -189,6 +189,9 @@ struct FillResult {
   size_t finish_forced = 0;     ///< of those: one of each pair still over the bound when the finish's rounds ran out
   size_t finish_rounds = 0;     ///< the finish's relaxations
   size_t finish_near_rounds = 0;  ///< of those, of the spheres near the last jams only (the rest held)
+  /// The most spheres one process looked at in a finish round (its own and
+  /// a halo; one process: all; issue 31: fewer on LAMMPS at P > 1).
+  size_t finish_largest_view = 0;
   size_t holes_filled = 0;      ///< spheres the finish inserted into holes (some may have gone again)
   ContainmentRepair containment;
   std::vector<PassStats> passes;

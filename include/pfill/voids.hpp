@@ -19,7 +19,11 @@ namespace pfill {
 /// to each sphere's surface plus the reference radius (the same for
 /// spheres of that radius), and a hole taken counts as a sphere of it.
 /// `distances`, when given, gets each hole's nearest distance so measured.
+/// `within`, when given, limits the search to the grid points in that box
+/// (a process's sub-domain: the particles then need only reach a clearance
+/// past it); a climb may end a little outside it.
 std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit, double reference_radius = 0, std::vector<double>* distances = nullptr);
+                             size_t limit, double reference_radius = 0, std::vector<double>* distances = nullptr,
+                             const Box3* within = nullptr);
 
 }  // namespace pfill

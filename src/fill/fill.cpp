@@ -29,6 +29,7 @@
 #include "pfill/boundary.hpp"
 #include "pfill/device/device.hpp"
 #include "pfill/engine/engine.hpp"
+#include "pfill/engine/local_view.hpp"
 #include "pfill/error.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/peak_memory.hpp"
@@ -198,27 +199,39 @@ class FillRun {
     reporter_.time_left().finish_started(reporter_.elapsed());
     fill_steps_ = engine_->steps_done();
     next_id_ = next_id;
-    std::vector<Particle> ps = engine_->read_particles();
-    engine_.reset();  // the finish holds the particles from here on
     if (!device_ && !o_.finish_on_engine) {  // FillOptions::engine: no OpenCL engine for the finish
-      particles_ = to_particle_set(ps);
+      particles_ = to_particle_set(engine_->read_particles());
+      engine_.reset();
       result_.warnings.push_back("the finish was left out: it needs the OpenCL engine (FillOptions::engine was given)");
       return;
     }
-    reporter_.report(ps.size(), 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
+    // Each process hands the finish its own particles (one process: all);
+    // split over processes, with the whole set's ids in order (8 B each).
+    LocalView handed = engine_->local_view(0);
+    std::vector<Particle> ps = std::move(handed.particles);
+    ps.resize(handed.own);
+    std::vector<uint64_t> ids;
+    if (!handed.complete()) {
+      for (const Particle& p : ps) ids.push_back(p.id);
+      engine_->gather_over_processes(ids);
+    }
+    engine_.reset();  // the finish holds the particles from here on
+    reporter_.report(ids.empty() ? ps.size() : ids.size(), 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
     FinishStats stats;
     auto progress = [&](size_t n, uint32_t pairs) {
       relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
       reporter_.report(n, 0, pairs, fill_steps_ + relax_steps_, relax_steps_);
     };
     particles_ = device_ ? finish_packing(*device_, params_, field_, std::move(ps), finish_settings(), stats, progress)
-                         : finish_packing(o_.engine, params_, field_, std::move(ps), finish_settings(), stats, progress);
+                         : finish_packing(o_.engine, params_, field_, std::move(ps), ids, finish_settings(), stats,
+                                          progress);
     relax_steps_ = stats.steps;
     field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
     result_.finish_removed = stats.removed;
     result_.finish_forced = stats.forced;
     result_.finish_rounds = stats.rounds;
     result_.finish_near_rounds = stats.near_rounds;
+    result_.finish_largest_view = stats.largest_view;
     result_.holes_filled = stats.inserted;
     next_id_ = stats.next_id;
     result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, t.seconds()});

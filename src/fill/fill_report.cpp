@@ -70,6 +70,7 @@ nlohmann::ordered_json fill_report_json(const FillResult& r, const std::string& 
           {"finish_forced", r.finish_forced},
           {"finish_rounds", r.finish_rounds},
           {"finish_near_rounds", r.finish_near_rounds},
+          {"finish_largest_view", r.finish_largest_view},
           {"holes_filled", r.holes_filled},
           {"containment_moved", r.containment.moved},
           {"containment_removed", r.containment.removed},

@@ -21,9 +21,15 @@
 //
 // The device runs the relaxation; the host reads the step history every
 // `chunk_steps` steps (a few scalars) and the positions once a relaxation.
+// On an engine split over processes (LAMMPS at P > 1 ranks) each reads
+// only its own spheres and a halo (finish_view.hpp) and decides the
+// deletions and holes of its own (finish_removals.hpp); the counts that
+// steer the rounds are summed over the processes. Only the result is
+// gathered.
 #include "fill/finish.hpp"
+#include "fill/finish_removals.hpp"
+#include "fill/finish_view.hpp"
 #include "fill/near_region.hpp"
-#include "fill/particle_set_of.hpp"
 #include "fill/size_deficit.hpp"
 
 #include <algorithm>
@@ -42,30 +48,11 @@ namespace {
 /// A held sphere's mass in a local relaxation: its speed stays 0 to float precision.
 constexpr double kHeldMass = 1e30;
 
-/// The engine's particles at their true radii (the engine's are smaller by
-/// `shrink`: half the bound of the smallest).
-ParticleSet to_set(const std::vector<Particle>& ps, double radius, double shrink, bool unequal) {
-  ParticleSet set = to_particle_set(ps);
-  if (!unequal) {
-    set.radii.assign(ps.size(), radius);  // exact: the engine's floats would round it
-  } else {
-    for (double& r : set.radii) r += shrink;
-  }
-  return set;
-}
-
-/// Each sphere's overlapping partners, one run each: partners[first[i]] up
-/// to partners[first[i + 1]] (a vector a sphere cost ~70 MiB at 1e6).
-struct OverlapPartners {
-  OverlapPartners(size_t n, const std::vector<Overlap>& overlaps) : first(n + 1, 0), partners(2 * overlaps.size()) {
-    for (const Overlap& o : overlaps) ++first[o.i + 1], ++first[o.j + 1];
-    for (size_t i = 0; i < n; ++i) first[i + 1] += first[i];
-    std::vector<size_t> next(first.begin(), first.end() - 1);
-    for (const Overlap& o : overlaps) partners[next[o.i]++] = o.j, partners[next[o.j]++] = o.i;
-  }
-  std::vector<size_t> first;
-  std::vector<uint32_t> partners;
-};
+/// How far past its sub-domain a process sees (FinishView), in radii: two
+/// contact distances, so that every partner of a halo sphere touching an
+/// own one is in view (its pressure whole), plus LAMMPS' atoms' drift
+/// past their sub-domain since the last exchange (under a radius).
+constexpr double kViewReach = 4.5;
 
 class Finisher {
  public:
@@ -113,67 +100,71 @@ class Finisher {
     engine_->share_field(field);  // field_ outlives the engine
   }
 
-  ParticleSet run(std::vector<Particle> ps) {
+  /// `ids` empty: `ps` is the whole set; else this process's share of the
+  /// set whose ids, in order, are `ids`.
+  ParticleSet run(std::vector<Particle> ps, const std::vector<uint64_t>& ids) {
     if (s_.sizes) {
       sizes_.emplace(*s_.sizes);
       sizes_->set_caps(s_.size_caps);
     }
-    upload(std::move(ps));
+    upload(std::move(ps), ids);
     int holes_done = 0;
     bool compressing = s_.compress_clearance > 0;
     size_t last_inserted = 0, deleted_since_insert = 0;
-    ParticleSet now;
     for (int round = 0;; ++round) {
       const bool stalled = relax();
-      now = ParticleSet();  // (memory: the last round's set goes before this one's is read)
-      now = current();
-      const std::vector<Overlap> overlaps = find_overlaps(now, 0.0);
+      look();
+      const std::vector<Overlap> overlaps = find_overlaps(view_.set, 0.0);
       size_t over = 0;
       hot_.clear();
       for (const Overlap& o : overlaps)
-        if (o.fraction > s_.max_overlap) {
+        if (o.fraction > s_.max_overlap && view_.counts(o)) {
           ++over;
-          hot_.push_back(0.5 * (now.positions[o.i] + now.positions[o.j]));
+          if (view_.complete()) hot_.push_back(0.5 * (view_.set.positions[o.i] + view_.set.positions[o.j]));
         }
+      // What steers the rounds is counted over every process alike.
+      over = total_over_processes(*engine_, view_, over);
+      const double n = static_cast<double>(engine_->size());
       if (over > 0) {
         if (round + 1 >= s_.max_rounds) {
-          remove_one_of_each(now, overlaps);
+          stats_.forced += remove(one_of_each_over(view_, overlaps, s_.max_overlap));
           break;
         }
         // Still falling when the steps ran out: relax on, delete nothing
         // (deleting then cost the bunny at r 0.012253, seed 1, 2% of its
         // packing); but a few pairs left that fall slowly go at once.
-        if (!stalled && static_cast<double>(over) > s_.run_on_share * static_cast<double>(now.size())) continue;
-        const size_t removed_before = stats_.removed;
-        remove_most_compressed(now, overlaps);
+        if (!stalled && static_cast<double>(over) > s_.run_on_share * n) continue;
         // Compressing ends where it deletes half of what it inserts: the
         // packing is then as full as the bound allows.
-        deleted_since_insert += stats_.removed - removed_before;
+        deleted_since_insert += remove(most_compressed(view_, overlaps, removal_rule()));
         if (2 * deleted_since_insert > last_inserted) compressing = false;
         continue;
       }
       if ((!compressing && holes_done >= s_.hole_rounds) || round + 1 >= s_.max_rounds) break;
-      if (all_held(now)) break;
+      if (all_held(view_.set)) break;
       const double clearance = compressing ? s_.compress_clearance : s_.hole_clearance;
       std::vector<double> gaps;
       const std::vector<Vec3> holes =
-          find_holes(now, field_, deep_, clearance * s_.radius, now.size(), sizes_ ? s_.radius : 0, &gaps);
+          holes_decided_here(*engine_, view_,
+                             find_holes(view_.set, field_, deep_, clearance * s_.radius, view_.set.size(),
+                                        sizes_ ? s_.radius : 0, &gaps, view_.mine()),
+                             gaps, clearance * s_.radius);
       // A round of a few holes does not pay for its relaxation (each takes
       // about 1,500 steps to settle, whatever the number of newcomers): the
       // fit pass below takes those a sphere fits in as they are.
-      if (static_cast<double>(holes.size()) < s_.hole_round_share * static_cast<double>(now.size())) {
+      if (static_cast<double>(total_over_processes(*engine_, view_, holes.size())) < s_.hole_round_share * n) {
         if (!compressing) break;
         compressing = false;  // compressed: the ordinary holes next
         continue;
       }
       if (!compressing) ++holes_done;
       hot_.clear();  // newcomers everywhere: the next relaxation is of all
-      last_inserted = insert_into_holes(now, holes, gaps, clearance);
+      last_inserted = insert_into_holes(holes, gaps, clearance);
       deleted_since_insert = 0;
       // Every class held at its cap: no hole takes a sphere, and another round would only relax.
       if (last_inserted == 0 && sizes_ && sizes_->capped()) break;
     }
-    add_fits(now);
+    ParticleSet now = add_fits();
     stats_.next_id = next_id_;
     return now;
   }
@@ -182,7 +173,7 @@ class Finisher {
 
  private:
   /// The spheres onto the engine, at rest, at the engine's radius.
-  void upload(std::vector<Particle> ps) {
+  void upload(std::vector<Particle> ps, const std::vector<uint64_t>& ids) {
     for (Particle& p : ps) {
       p.velocity = {};
       p.radius = sizes_ ? p.radius - shrink_ : engine_radius_;
@@ -190,15 +181,19 @@ class Finisher {
       // left the large spheres slow to give way.
       p.mass = 1;
     }
-    engine_->add_particles(ps);
+    if (ids.empty()) {
+      engine_->add_particles(ps);
+    } else {
+      engine_->add_decided_particles(ps, ids);
+    }
   }
 
   /// A sphere into each of `holes` (the nearest centre `gaps` away), on
-  /// the engine, for the next relaxation to make room for. Returns how many.
-  size_t insert_into_holes(const ParticleSet& now, const std::vector<Vec3>& holes, const std::vector<double>& gaps,
-                           double clearance) {
+  /// the engine, for the next relaxation to make room for. Returns how
+  /// many, over every process.
+  size_t insert_into_holes(const std::vector<Vec3>& holes, const std::vector<double>& gaps, double clearance) {
     std::vector<Particle> newcomers;
-    if (sizes_) sizes_->recount(now.radii);
+    if (sizes_) sizes_->recount(view_.set.radii);
     for (size_t k = 0; k < holes.size(); ++k) {
       // Unequal spheres: as large as the hole takes at this clearance's
       // overlap (the same share of the radius as for the smallest), of
@@ -211,20 +206,34 @@ class Finisher {
       p.position = holes[k];
       p.radius = r - shrink_;
       p.mass = 1;
-      p.id = next_id_++;
       newcomers.push_back(p);
     }
-    engine_->add_particles(newcomers);
-    stats_.inserted += newcomers.size();
-    return newcomers.size();
+    return add_newcomers(newcomers);
+  }
+
+  /// Newcomers onto the engine, numbered from next_id_ over every process
+  /// in order; returns how many over all.
+  size_t add_newcomers(std::vector<Particle>& newcomers) {
+    std::vector<uint64_t> all;
+    const std::vector<uint64_t> ids = batch_ids(*engine_, view_, newcomers.size(), next_id_, all);
+    for (size_t k = 0; k < newcomers.size(); ++k) newcomers[k].id = ids[k];
+    if (view_.complete()) {
+      engine_->add_particles(newcomers);
+    } else {
+      engine_->add_decided_particles(newcomers, all);
+    }
+    stats_.inserted += all.size();
+    return all.size();
   }
 
   /// After the last relaxation: holes a sphere fits in without overlap (a
   /// deletion after the last insertion may leave one) take one as they
-  /// are, into `now`: nothing to relax.
-  void add_fits(ParticleSet& now) {
-    now = current();
-    if (all_held(now)) return;
+  /// are: nothing to relax. Returns every sphere.
+  ParticleSet add_fits() {
+    if (!view_.complete()) return add_fits_per_process();
+    view_ = FinishView();
+    ParticleSet now = current();
+    if (all_held(now)) return now;
     std::vector<double> gaps;
     const std::vector<Vec3> fits =
         s_.hole_rounds > 0 ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size(),
@@ -249,6 +258,26 @@ class Finisher {
       now.velocities.push_back({});
       ++stats_.inserted;
     }
+    return now;
+  }
+
+  /// The same per sub-domain (equal spheres): each process's fits, apart
+  /// from those across its borders, onto the engine; then every sphere.
+  ParticleSet add_fits_per_process() {
+    look();
+    const double clearance = s_.fit_clearance * s_.radius;
+    std::vector<double> gaps;
+    const std::vector<Vec3> fits =
+        s_.hole_rounds > 0 ? holes_decided_here(*engine_, view_,
+                                                find_holes(view_.set, field_, deep_, clearance * (1 + 1e-6),
+                                                           view_.set.size(), 0, &gaps, view_.mine()),
+                                                gaps, clearance)
+                           : std::vector<Vec3>{};
+    std::vector<Particle> newcomers(fits.size());
+    for (size_t k = 0; k < fits.size(); ++k) newcomers[k].position = fits[k], newcomers[k].radius = engine_radius_;
+    add_newcomers(newcomers);
+    view_ = FinishView();
+    return current();
   }
 
   /// Unequal spheres held to caps (FinishSettings::size_caps), every class
@@ -260,8 +289,17 @@ class Finisher {
     return sizes_->all_capped();
   }
 
-  /// The spheres now, at their true radii.
-  ParticleSet current() const { return to_set(engine_->read_particles(), s_.radius, shrink_, sizes_.has_value()); }
+  /// The spheres now, at their true radii: every one.
+  ParticleSet current() const {
+    return at_true_radii(engine_->read_particles(), s_.radius, shrink_, sizes_.has_value());
+  }
+
+  /// What this process decides the next round on (finish_view.hpp).
+  void look() {
+    view_ = FinishView();  // (memory: the last round's view goes before this one's is read)
+    view_ = finish_view(*engine_, kViewReach * s_.radius, s_.radius, shrink_, sizes_.has_value());
+    stats_.largest_view = std::max(stats_.largest_view, view_.set.size());
+  }
 
   /// Unequal spheres: the radius a hole at `p` gets, at most `room` (and
   /// deep enough inside by the field): of the class furthest below its
@@ -350,107 +388,24 @@ class Finisher {
     return stalled;
   }
 
-  /// After a stalled relaxation: the spheres pressed hardest go, about
-  /// `fire_removal_share` (FIRE) or `removal_share` (damped) of the excess
-  /// the overlaps imply (shrinking a sphere's radius by s of r frees 3 s of
-  /// its volume; a sphere needs to shrink by half its worst excess overlap),
-  /// and no two that overlap each other in one round (removing one relieves
-  /// its neighbours).
-  void remove_most_compressed(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
-    const size_t n = now.size();
-    std::vector<double> need(n, 0), pressed(n, 0);
-    const OverlapPartners touching(n, overlaps);
-    for (const Overlap& o : overlaps) {
-      const double excess = 0.5 * std::max(0.0, o.fraction - s_.max_overlap);
-      need[o.i] = std::max(need[o.i], excess);
-      need[o.j] = std::max(need[o.j], excess);
-      pressed[o.i] += o.fraction;
-      pressed[o.j] += o.fraction;
-    }
-    // Unequal spheres: the volume a sphere must give up, r_i^2 r_min need_i
-    // (need_i a share of the smallest radius), counted in spheres of the
-    // distribution's mean volume, as the deletions keep to it (counted in
-    // smallest spheres, as for equal ones, 1:2 half-half deleted 4.5 times
-    // too many small and twice too many large).
-    const double mean_cube = sizes_ ? s_.sizes->mean_cube() : 0;
-    double excess = 0;
-    std::vector<size_t> candidates;
-    for (size_t i = 0; i < n; ++i)
-      if (need[i] > 0) {
-        excess += sizes_ ? 3 * need[i] * now.radii[i] * now.radii[i] * s_.radius / mean_cube : 3 * need[i];
-        candidates.push_back(i);
-      }
-    std::sort(candidates.begin(), candidates.end(),
-              [&](size_t a, size_t b) { return pressed[a] > pressed[b] || (pressed[a] == pressed[b] && a < b); });
-    // Jams (clusters of pairs over the bound) that the relaxation could not
-    // undo lose their most pressed sphere, a share of them a round, so that
-    // the rounds do not grow with the number of jams (that is, with N).
-    std::vector<uint32_t> root(n);
-    for (size_t i = 0; i < n; ++i) root[i] = static_cast<uint32_t>(i);
-    auto find = [&](uint32_t i) {
-      while (root[i] != i) i = root[i] = root[root[i]];
-      return i;
-    };
-    for (const Overlap& o : overlaps)
-      if (o.fraction > s_.max_overlap) root[find(o.i)] = find(o.j);
-    std::vector<bool> blocked(n, false), jam_done(n, false), chosen(n, false);
-    std::vector<size_t> out;
-    // Unequal spheres: a class goes only while it keeps its share (the
-    // large are the most pressed: deleting by pressure alone thinned them,
-    // 1:2 half-half ended 60:40).
-    if (sizes_) sizes_->recount(now.radii);
-    auto may_go = [&](size_t i) { return !sizes_ || sizes_->may_lose(sizes_->class_of(now.radii[i])); };
-    auto take = [&](size_t i) {
-      if (sizes_) sizes_->remove(now.radii[i]);
-      out.push_back(i);
-      chosen[i] = true;
-      jam_done[find(static_cast<uint32_t>(i))] = true;
-      for (size_t k = touching.first[i]; k < touching.first[i + 1]; ++k) blocked[touching.partners[k]] = true;
-    };
-    // Only the most pressed jams, `jam_share` of them: removing a few
-    // spheres relieves the pressure far around (the bunny: 14 removed
-    // cleared 1,349 pairs over the bound), and one from every jam emptied
-    // holes the packing could not fill again (0.584 against 0.592).
-    std::vector<bool> counted(n, false);
-    size_t jams = 0;
-    for (size_t i : candidates) {
-      const uint32_t r = find(static_cast<uint32_t>(i));
-      if (!counted[r]) counted[r] = true, ++jams;
-    }
-    const size_t most = static_cast<size_t>(std::ceil(s_.jam_share * static_cast<double>(jams)));
-    for (size_t i : candidates) {
-      if (out.size() >= most) break;
-      if (!jam_done[find(static_cast<uint32_t>(i))] && !blocked[i] && may_go(i)) take(i);
-    }
-    const double share = s_.fire ? s_.fire_removal_share : s_.removal_share;
-    const size_t want = static_cast<size_t>(std::ceil(share * excess));
-    for (size_t i : candidates) {
-      if (out.size() >= want) break;
-      if (!blocked[i] && !chosen[i] && may_go(i)) take(i);
-    }
-    stats_.removed += out.size();
-    engine_->remove_particles(out);
+  /// The deletions after a stalled relaxation (finish_removals.hpp).
+  RemovalRule removal_rule() {
+    RemovalRule rule;
+    rule.max_overlap = s_.max_overlap;
+    rule.jam_share = s_.jam_share;
+    rule.share = s_.fire ? s_.fire_removal_share : s_.removal_share;
+    rule.radius = s_.radius;
+    if (sizes_) rule.sizes = &*sizes_, rule.mean_cube = s_.sizes->mean_cube();
+    return rule;
   }
 
-  /// Out of rounds: one sphere of every pair still over the bound goes
-  /// (the more pressed one), so the bound holds whatever the rounds did.
-  void remove_one_of_each(const ParticleSet& now, const std::vector<Overlap>& overlaps) {
-    std::vector<double> pressed(now.size(), 0);
-    for (const Overlap& o : overlaps) {
-      pressed[o.i] += o.fraction;
-      pressed[o.j] += o.fraction;
-    }
-    std::vector<bool> gone(now.size(), false);
-    std::vector<size_t> out;
-    for (const Overlap& o : overlaps) {
-      if (o.fraction <= s_.max_overlap || gone[o.i] || gone[o.j]) continue;
-      const size_t k = pressed[o.i] >= pressed[o.j] ? o.i : o.j;
-      gone[k] = true;
-      out.push_back(k);
-    }
-    stats_.removed += out.size();
-    stats_.forced += out.size();
-    engine_->remove_particles(out);
+  /// Removes this process's `picked` (view indices) and every other
+  /// process's from the engine; returns how many over all.
+  size_t remove(const std::vector<size_t>& picked) {
+    const std::vector<size_t> all = picked_everywhere(*engine_, view_, picked);
+    stats_.removed += all.size();
+    engine_->remove_particles(all);
+    return all.size();
   }
 
   FinishSettings s_;
@@ -465,7 +420,8 @@ class Finisher {
   std::unique_ptr<ParticleEngine> engine_;
   std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> make_;
   EngineParams params_;      ///< the relaxation's engines'
-  std::vector<Vec3> hot_;    ///< where the last round's pairs over the bound lie (their midpoints)
+  std::vector<Vec3> hot_;    ///< where the last round's pairs over the bound lie (their midpoints; one process only)
+  FinishView view_;          ///< what this process decides the round on
   std::function<void(size_t, uint32_t)> progress_;
 };
 
@@ -493,7 +449,16 @@ ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(c
                            const std::function<void(size_t, uint32_t)>& progress) {
   Finisher f(make, base, field, settings, stats);
   f.set_progress(progress);
-  return f.run(std::move(particles));
+  return f.run(std::move(particles), {});
+}
+
+ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
+                           const EngineParams& base, const ScalarGrid& field, std::vector<Particle> mine,
+                           const std::vector<uint64_t>& ids, const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress) {
+  Finisher f(make, base, field, settings, stats);
+  f.set_progress(progress);
+  return f.run(std::move(mine), ids);
 }
 
 }  // namespace pfill

@@ -91,6 +91,9 @@ struct FinishStats {
   uint64_t steps = 0;     ///< relaxation steps
   size_t forced = 0;      ///< of `removed`: one of each pair still over the bound when the rounds ran out
   uint64_t next_id = 0;   ///< the id after the last one given to an inserted sphere
+  /// The most spheres one process looked at in a round (its own and its
+  /// halo; one process: every sphere). Issue 31: under the count at P > 1.
+  size_t largest_view = 0;
 };
 
 /// Relaxes `particles` on a purely repulsive engine (FIRE, or damped) whose contact
@@ -110,6 +113,16 @@ ParticleSet finish_packing(Device& device, const EngineParams& base, const Scala
 ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
                            const EngineParams& base, const ScalarGrid& field, std::vector<Particle> particles,
                            const FinishSettings& settings, FinishStats& stats,
+                           const std::function<void(size_t, uint32_t)>& progress = {});
+
+/// The same with the set split over the processes that share the engines
+/// (issue 31: LAMMPS at P > 1 ranks): `mine` is this process's share of
+/// the set whose ids, in order, are `ids` (every process gives the same
+/// `ids`, each member in exactly one `mine`: add_decided_particles), so no
+/// process is handed the whole set.
+ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
+                           const EngineParams& base, const ScalarGrid& field, std::vector<Particle> mine,
+                           const std::vector<uint64_t>& ids, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress = {});
 
 /// The automatic inflation for a bound (fraction of r): a relaxed pair

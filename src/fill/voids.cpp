@@ -2,6 +2,7 @@
 #include "pfill/voids.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -12,7 +13,8 @@
 
 namespace pfill {
 std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit, double reference_radius, std::vector<double>* distances) {
+                             size_t limit, double reference_radius, std::vector<double>* distances,
+                             const Box3* within) {
   std::vector<Vec3> holes;
   // Unequal spheres: distances to sphere surfaces, plus the reference
   // radius (so that for spheres of that radius they are centre distances).
@@ -40,10 +42,17 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
   };
   const double least = std::max(0.0, clearance - miss);
   const double surely_near2 = least * least * (1 - 1e-9);  // a centre closer than this: d < clearance - miss
+  // The grid points to search: all, or those in `within`.
+  std::array<int, 3> first{0, 0, 0}, last = sdf.dims;
+  if (within)
+    for (int a = 0; a < 3; ++a) {
+      first[a] = std::max(0, static_cast<int>(std::ceil((within->lo[a] - sdf.origin[a]) / sdf.spacing)));
+      last[a] = std::min(sdf.dims[a], static_cast<int>(std::floor((within->hi[a] - sdf.origin[a]) / sdf.spacing)) + 1);
+    }
   std::vector<std::vector<Candidate>> slices(static_cast<size_t>(std::max(0, sdf.dims[2])));
-  tbb::parallel_for(0, sdf.dims[2], [&](int k) {  // (no hole is taken yet: `nearest` only reads)
-    for (int j = 0; j < sdf.dims[1]; ++j)
-      for (int i = 0; i < sdf.dims[0]; ++i) {
+  tbb::parallel_for(first[2], std::max(first[2], last[2]), [&](int k) {  // (no hole is taken yet: `nearest` only reads)
+    for (int j = first[1]; j < last[1]; ++j)
+      for (int i = first[0]; i < last[0]; ++i) {
         if (-sdf.at(i, j, k) < radius) continue;
         const Vec3 p = sdf.point(i, j, k);
         // Most points have a centre well within the clearance: one found ends the search.

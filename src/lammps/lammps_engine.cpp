@@ -25,7 +25,7 @@
 #include <utility>
 #include <vector>
 
-#include "lammps/birth_halo.hpp"
+#include "lammps/halo_views.hpp"
 #include "lammps/birth_tally.hpp"
 #include "lammps/engine_reads.hpp"
 #include "lammps/lammps_session.hpp"
@@ -174,11 +174,19 @@ class LammpsEngine final : public ParticleEngine {
   void clear_flags() override { step_.flagged_tags().clear(); }
 
   /// At P > 1: this rank's atoms and the others' within `reach` of its
-  /// sub-domain, whose sites it decides (birth_halo.hpp); no gather.
+  /// sub-domain, whose sites it decides (halo_views.hpp); no gather.
   BirthView birth_view(double reach, bool complete) override {
     flush();
     if (complete || lmp_->ranks() == 1) return ParticleEngine::birth_view(reach, complete);
     return lammps_engine::birth_halo(*lmp_, reach);
+  }
+  /// At P > 1: this rank's atoms and the others' within `reach`
+  /// (halo_views.hpp). Atoms LAMMPS lost are in no view: flagged_particles
+  /// names them for removal.
+  LocalView local_view(double reach) override {
+    flush();
+    if (lmp_->ranks() == 1) return ParticleEngine::local_view(reach);
+    return lammps_engine::local_halo(*lmp_, book_, params_, reach);
   }
 
   void sum_over_processes(std::vector<int>& counts) override {

@@ -17,6 +17,8 @@
 
 namespace pfill {
 
+struct LocalView;  // local_view.hpp
+
 /// One particle as the host sees it.
 struct Particle {
   Vec3 position;
@@ -81,6 +83,10 @@ class ParticleEngine {
     for (const Particle& p : read_particles()) view.centres.push_back(p.position), view.radii.push_back(p.radius);
     return view;
   }
+  /// What the finish decides on here (local_view.hpp): this process's
+  /// own particles and every other within `reach` of its sub-domain. By
+  /// default (one process): read_particles, every particle its own.
+  virtual LocalView local_view(double reach);
   /// Sums `counts` element by element over the processes that share this
   /// engine (each passes as many; collective). One process: unchanged.
   virtual void sum_over_processes(std::vector<int>& counts) { (void)counts; }

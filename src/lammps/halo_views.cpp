@@ -1,9 +1,10 @@
-// The births' room test's view at P > 1 ranks: see birth_halo.hpp.
+// What a rank sees of the others' atoms at P > 1 ranks: see halo_views.hpp.
 #ifdef PFILL_WITH_LAMMPS
-#include "lammps/birth_halo.hpp"
+#include "lammps/halo_views.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <vector>
 
 namespace pfill {
@@ -39,13 +40,16 @@ double gap(const Box3& a, const Box3& b) {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-/// x, y, z, radius of each own atom within `reach` of another rank's
-/// sub-domain, per rank. Atoms deeper than `reach` inside this rank's own
-/// sub-domain are no other rank's concern (the sub-domains tile the box).
-std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vector<Box3>& boxes, double reach) {
+/// x, y, z, radius (and, with `tags`, the tag) of each own atom within
+/// `reach` of another rank's sub-domain, per rank. Atoms deeper than
+/// `reach` inside this rank's own sub-domain are no other rank's concern
+/// (the sub-domains tile the box).
+std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vector<Box3>& boxes, double reach,
+                                          bool tags) {
   const int nl = s.nlocal(), me = s.rank();
   double** x = s.atoms<double**>("x");
   double* radius = s.atoms<double*>("radius");
+  int* tag = s.atoms<int*>("id");
   // Atoms may have left the sub-domain since LAMMPS' last exchange: the
   // ranks near any of them, from the box of the sub-domain and its atoms.
   Box3 spread = boxes[static_cast<size_t>(me)];
@@ -58,14 +62,17 @@ std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vec
     const Vec3 p{x[i][0], x[i][1], x[i][2]};
     if (depth_in(boxes[static_cast<size_t>(me)], p) > reach) continue;
     for (int r : near)
-      if (distance_to_box(boxes[static_cast<size_t>(r)], p) <= reach)
-        out[static_cast<size_t>(r)].insert(out[static_cast<size_t>(r)].end(), {p.x, p.y, p.z, radius[i]});
+      if (distance_to_box(boxes[static_cast<size_t>(r)], p) <= reach) {
+        std::vector<double>& o = out[static_cast<size_t>(r)];
+        o.insert(o.end(), {p.x, p.y, p.z, radius[i]});
+        if (tags) o.push_back(tag[i]);
+      }
   }
   return out;
 }
 
 /// Each rank's `out[r]` to rank r (MPI_Alltoall of the counts, then MPI_Alltoallv).
-std::vector<double> exchange(const LammpsSession& s, const std::vector<std::vector<double>>& out) {
+std::vector<double> exchange_rows(const LammpsSession& s, const std::vector<std::vector<double>>& out) {
   const size_t ranks = static_cast<size_t>(s.ranks());
   std::vector<int> send_n(ranks), recv_n(ranks), send_at(ranks, 0), recv_at(ranks, 0);
   std::vector<double> send;
@@ -88,7 +95,7 @@ BirthView birth_halo(const LammpsSession& s, double reach) {
   BirthView view;
   view.regions = all_subdomains(s);
   view.region = s.rank();
-  const std::vector<double> got = exchange(s, outgoing(s, view.regions, reach));
+  const std::vector<double> got = exchange_rows(s, outgoing(s, view.regions, reach, false));
   const int nl = s.nlocal();
   double** x = s.atoms<double**>("x");
   double* radius = s.atoms<double*>("radius");
@@ -97,6 +104,52 @@ BirthView birth_halo(const LammpsSession& s, double reach) {
   for (int i = 0; i < nl; ++i) view.centres.push_back({x[i][0], x[i][1], x[i][2]}), view.radii.push_back(radius[i]);
   for (size_t k = 0; k + 3 < got.size(); k += 4)
     view.centres.push_back({got[k], got[k + 1], got[k + 2]}), view.radii.push_back(got[k + 3]);
+  return view;
+}
+
+LocalView local_halo(const LammpsSession& s, const ParticleBook& book, const EngineParams& params, double reach) {
+  LocalView view;
+  view.regions = all_subdomains(s);
+  view.region = s.rank();
+  const std::vector<double> got = exchange_rows(s, outgoing(s, view.regions, reach, true));
+  const int nl = s.nlocal();
+  int* tag = s.atoms<int*>("id");
+  double** x = s.atoms<double**>("x");
+  double** v = s.atoms<double**>("v");
+  double* radius = s.atoms<double*>("radius");
+  // Own atoms in the order of the engine's indices: the same decisions
+  // whatever order LAMMPS keeps them in.
+  std::vector<std::pair<size_t, int>> own;
+  own.reserve(static_cast<size_t>(nl));
+  for (int i = 0; i < nl; ++i) {
+    const size_t index = book.index_of(tag[i]);
+    if (index != book.size()) own.push_back({index, i});
+  }
+  std::sort(own.begin(), own.end());
+  view.own = own.size();
+  view.particles.reserve(own.size() + got.size() / 5);
+  for (const auto& [index, i] : own) {
+    Particle p;
+    p.position = {x[i][0], x[i][1], x[i][2]};
+    p.velocity = {v[i][0], v[i][1], v[i][2]};
+    p.radius = radius[i];
+    p.mass = particle_mass(params, p.radius);
+    p.id = book.id(index);
+    view.particles.push_back(p);
+    view.indices.push_back(index);
+    view.keys.push_back(static_cast<uint64_t>(tag[i]));
+  }
+  for (size_t k = 0; k + 4 < got.size(); k += 5) {
+    const size_t index = book.index_of(static_cast<int>(got[k + 4]));
+    if (index == book.size()) continue;
+    Particle p;
+    p.position = {got[k], got[k + 1], got[k + 2]};
+    p.radius = got[k + 3];
+    p.mass = particle_mass(params, p.radius);
+    p.id = book.id(index);
+    view.particles.push_back(p);
+    view.keys.push_back(static_cast<uint64_t>(got[k + 4]));
+  }
   return view;
 }
 

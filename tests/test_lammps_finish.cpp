@@ -1,0 +1,185 @@
+// The finish on the LAMMPS engine per sub-domain (issue 31, src/fill/
+// finish_view.hpp): each rank sees its own spheres and a halo
+// (ParticleEngine::local_view), deletes only its own and finds holes only
+// in its own sub-domain. ctest runs this file as it is (one process) and
+// under `mpirun -np 2` (mpi2.test_lammps_finish), where the views are
+// partial. Without LAMMPS built in, nothing here runs.
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <set>
+#include <vector>
+
+#include "fill/finish.hpp"
+#include "lammps_fixtures.hpp"
+#include "pfill/engine/local_view.hpp"
+#include "pfill/engine/reference.hpp"
+#include "pfill/lammps.hpp"
+#include "pfill/packing_metrics.hpp"
+
+using namespace pfill;
+
+namespace {
+
+constexpr double kR = 0.1;
+constexpr double kBall = 1.0;
+
+EngineParams base_params() {
+  EngineParams p;
+  p.radius = kR;
+  p.max_radius = kR * (1 + 1e-6);
+  return p;
+}
+
+/// A simple cubic lattice of spacing `spacing` in the ball, centres r deep.
+std::vector<Particle> lattice(double spacing) {
+  std::vector<Particle> ps;
+  const int n = static_cast<int>(kBall / spacing) + 1;
+  for (int i = -n; i <= n; ++i)
+    for (int j = -n; j <= n; ++j)
+      for (int k = -n; k <= n; ++k) {
+        const Vec3 p = Vec3(i, j, k) * spacing + Vec3(0.003, -0.002, 0.001);
+        if (length(p) > kBall - kR) continue;
+        Particle q;
+        q.position = p;
+        q.radius = kR;
+        q.id = ps.size() + 1;
+        ps.push_back(q);
+      }
+  return ps;
+}
+
+double worst_overlap(const ParticleSet& s) {
+  double worst = 0;
+  for (const Overlap& o : find_overlaps(s)) worst = std::max(worst, o.fraction);
+  return worst;
+}
+
+}  // namespace
+
+TEST_CASE("lammps engine: the finish's view per rank: each sphere own on one rank, the halo as the whole set") {
+  if (!lammps_available()) return;
+  const ScalarGrid field = test::ball_field(kBall, kR / 3);
+  const std::vector<Particle> start = lattice(1.7 * kR);
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(base_params());
+  lmp->share_field(field);
+  lmp->add_particles(start);
+  lmp->run_steps(5);
+  const std::vector<Particle> whole = lmp->read_particles();  // (the test's gather, to compare with)
+  const double reach = 4.5 * kR;
+  const LocalView view = lmp->local_view(reach);
+  REQUIRE(view.indices.size() == view.own);
+  REQUIRE(view.keys.size() == view.particles.size());
+  // Every index own on exactly one rank, at the whole set's position.
+  std::vector<uint64_t> owned(view.indices.begin(), view.indices.end());
+  lmp->gather_over_processes(owned);
+  std::sort(owned.begin(), owned.end());
+  std::vector<uint64_t> every(whole.size());
+  for (size_t i = 0; i < every.size(); ++i) every[i] = i;
+  CHECK(owned == every);
+  size_t misplaced = 0;
+  for (size_t k = 0; k < view.own; ++k)
+    misplaced += length(view.particles[k].position - whole[view.indices[k]].position) > 0 ||
+                 view.particles[k].id != whole[view.indices[k]].id;
+  CHECK(misplaced == 0);
+  std::set<uint64_t> keys(view.keys.begin(), view.keys.end());
+  CHECK(keys.size() == view.keys.size());
+  const MpiWorld world = lammps_mpi_start();
+  if (world.size == 1) {
+    CHECK(view.complete());
+    CHECK(view.own == whole.size());
+    return;
+  }
+  // The halo: every other rank's sphere within the reach of this rank's
+  // sub-domain, where the whole set has it.
+  REQUIRE_FALSE(view.complete());
+  CHECK(view.own < whole.size());
+  CHECK(view.particles.size() < whole.size());
+  std::set<uint64_t> own_ids, halo_ids;
+  for (size_t k = 0; k < view.particles.size(); ++k) (k < view.own ? own_ids : halo_ids).insert(view.particles[k].id);
+  const Box3& mine = view.regions[static_cast<size_t>(view.region)];
+  size_t expected = 0, missing = 0;
+  for (const Particle& p : whole)
+    if (!own_ids.count(p.id) && distance_to_box(mine, p.position) <= reach) ++expected, missing += !halo_ids.count(p.id);
+  CHECK(expected > 0);
+  CHECK(missing == 0);
+}
+
+// A ball over-full by 1.6 times (a lattice of 1.5 r): the finish must
+// delete, may fill holes, and ends within the bound with every centre
+// inside, as the reference engine's finish in one process does; at 2 ranks
+// no rank looks at every sphere in any round.
+TEST_CASE("lammps engine: the finish per sub-domain holds the bound, each rank deciding on part of the spheres") {
+  if (!lammps_available()) return;
+  const ScalarGrid field = test::ball_field(kBall, kR / 3);
+  const std::vector<Particle> start = lattice(1.5 * kR);
+  REQUIRE(start.size() > 700);
+  FinishSettings s;
+  s.radius = kR;
+  s.max_overlap = 0.001;
+  s.first_id = start.size() + 1;
+  FinishStats on_lammps, on_reference;
+  const ParticleSet out = finish_packing(lammps_engine_factory(), base_params(), field, start, s, on_lammps);
+  const ParticleSet ref = finish_packing([](const EngineParams& p) { return std::make_unique<ReferenceEngine>(p); },
+                                         base_params(), field, start, s, on_reference);
+  INFO("LAMMPS " << out.size() << " spheres (" << on_lammps.removed << " deleted, " << on_lammps.inserted
+                 << " inserted, " << on_lammps.rounds << " rounds, largest view " << on_lammps.largest_view
+                 << "); reference " << ref.size() << " (" << on_reference.removed << " deleted, "
+                 << on_reference.inserted << " inserted)");
+  CHECK(on_lammps.removed > 0);
+  CHECK(out.size() + on_lammps.removed == start.size() + on_lammps.inserted);
+  CHECK(worst_overlap(out) <= 0.001);
+  size_t outside = 0;
+  for (const Vec3& p : out.positions) outside += length(p) > kBall - kR * (1 - 1e-3);
+  CHECK(outside == 0);
+  std::set<uint64_t> ids(out.ids.begin(), out.ids.end());
+  CHECK(ids.size() == out.size());
+  // The same packing as one process finds, to a few percent (the
+  // relaxations differ: float sums in another order, deletions per rank).
+  CHECK(std::fabs(static_cast<double>(out.size()) - static_cast<double>(ref.size())) <= 0.03 * ref.size());
+  const MpiWorld world = lammps_mpi_start();
+  // Its largest view: the first round's (the most spheres), at one
+  // process all of them, at 2 ranks a part.
+  if (world.size > 1) {
+    CHECK(on_lammps.largest_view < start.size());
+  } else {
+    CHECK(on_lammps.largest_view >= out.size());
+  }
+}
+
+// The fill hands the finish each rank's own spheres (ParticleEngine::
+// local_view) with the whole set's ids, so no rank is given every sphere:
+// split so (rank r: every P-th sphere from r; LAMMPS sends each to the
+// rank whose sub-domain holds it), the finish ends as from the whole set.
+TEST_CASE("lammps engine: the finish takes the set split over the ranks, each id once") {
+  if (!lammps_available()) return;
+  const ScalarGrid field = test::ball_field(kBall, kR / 3);
+  const std::vector<Particle> start = lattice(1.5 * kR);
+  const MpiWorld world = lammps_mpi_start();
+  std::vector<Particle> mine;
+  std::vector<uint64_t> ids;
+  for (size_t i = 0; i < start.size(); ++i) {
+    ids.push_back(start[i].id);
+    if (static_cast<int>(i % static_cast<size_t>(world.size)) == world.rank) mine.push_back(start[i]);
+  }
+  FinishSettings s;
+  s.radius = kR;
+  s.max_overlap = 0.001;
+  s.first_id = start.size() + 1;
+  FinishStats split_stats, whole_stats;
+  const ParticleSet split = finish_packing(lammps_engine_factory(), base_params(), field, mine, ids, s, split_stats);
+  const ParticleSet whole = finish_packing(lammps_engine_factory(), base_params(), field, start, s, whole_stats);
+  INFO("split " << split.size() << " (" << split_stats.removed << " deleted), whole " << whole.size() << " ("
+                << whole_stats.removed << " deleted)");
+  CHECK(split.size() + split_stats.removed == start.size() + split_stats.inserted);
+  CHECK(worst_overlap(split) <= 0.001);
+  std::set<uint64_t> unique(split.ids.begin(), split.ids.end());
+  CHECK(unique.size() == split.size());
+  if (world.size == 1) {
+    CHECK(split.positions == whole.positions);  // the same call: the same spheres
+  } else {
+    CHECK(std::fabs(static_cast<double>(split.size()) - static_cast<double>(whole.size())) <= 0.03 * whole.size());
+  }
+}
