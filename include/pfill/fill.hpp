@@ -93,7 +93,7 @@ struct FillOptions {
   double site_depth = 0.75;     ///< sites >= 1: sites after the first lie at least this share of the deepest depth inside
   double site_spacing = 5;      ///< waves: sites at least this many rest distances (2r) apart
   double site_min_depth = 2;    ///< waves: sites at least this many radii inside
-  /// Waves: until a quarter of the expected count is in, births also at room sites
+  /// Waves: until half the expected count is in, births also at room sites
   /// this many rest distances apart, each where its newborn overlaps no
   /// sphere (the sparse start in a few hundred steps, not thousands); 0: none.
   double room_spacing = 1.5;

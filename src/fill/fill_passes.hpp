@@ -3,8 +3,8 @@
 //   pass 2:  MaxParts = count - 1; top up to MaxParts
 //   settle:  update until at rest
 // With waves, the first births also go to room sites (FillOptions::
-// room_spacing) wherever a newborn overlaps no sphere, until a quarter of
-// the expected count is in: the sparse start then takes a few hundred steps.
+// room_spacing) wherever a newborn overlaps no sphere, until half of the
+// expected count is in: the sparse start then takes a few hundred steps.
 // The host runs a batch of steps (`sync_every`, or a wave's `birth_every`),
 // then reads the step history and, while births may follow, a snapshot of
 // the positions that the birth-room test uses; particles the wall flagged

@@ -204,7 +204,7 @@ std::vector<FillSetting> birth_settings() {
       real(FIELD(site_spacing), T::Tuning, "Waves: sites at least this many rest distances apart"),
       real(FIELD(site_min_depth), T::Tuning, "Waves: sites at least this many radii inside"),
       real(FIELD(room_spacing), T::Tuning,
-           "Waves: until a quarter of the count is in, births also at room sites this many rest distances apart, where "
+           "Waves: until half the count is in, births also at room sites this many rest distances apart, where "
            "a newborn overlaps nothing (0: none)"),
       whole(FIELD(birth_every), T::Tuning, 0,
             "Steps between birth attempts at each site (0: automatic, 48 for waves, 3 at the report's sites)"),
