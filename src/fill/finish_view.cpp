@@ -21,14 +21,10 @@ ParticleSet at_true_radii(const std::vector<Particle>& ps, double radius, double
 FinishView finish_view(ParticleEngine& engine, double reach, double radius, double shrink, bool unequal) {
   // Unequal spheres see every sphere: a hole's radius follows the size
   // classes' counts over the whole set (SizeDeficit).
-  LocalView local = unequal ? whole_view(engine.read_particles()) : engine.local_view(reach);
   FinishView v;
-  v.set = at_true_radii(local.particles, radius, shrink, unequal);
-  v.own = local.own;
-  v.indices = std::move(local.indices);
-  v.keys = std::move(local.keys);
-  v.regions = std::move(local.regions);
-  v.region = local.region;
+  static_cast<LocalView&>(v) = unequal ? whole_view(engine.read_particles()) : engine.local_view(reach);
+  v.set = at_true_radii(v.particles, radius, shrink, unequal);
+  v.particles = std::vector<Particle>();  // (memory: held once, in `set`)
   return v;
 }
 

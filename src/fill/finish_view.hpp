@@ -20,17 +20,11 @@
 
 namespace pfill {
 
-struct FinishView {
-  ParticleSet set;               ///< own first, then the halo, at their true radii
-  size_t own = 0;                ///< how many of `set` are this process's
-  std::vector<size_t> indices;   ///< the engine's index of each own sphere
-  std::vector<uint64_t> keys;    ///< an order of every sphere in view, the same on every process
-  std::vector<Box3> regions;     ///< every process's sub-domain; empty: one process
-  int region = 0;
+/// The engine's LocalView (own count, indices, keys, regions), its
+/// particles moved into `set` at their true radii (`particles` stays empty).
+struct FinishView : LocalView {
+  ParticleSet set;  ///< own first, then the halo, at their true radii
 
-  bool complete() const { return regions.empty(); }
-  bool is_own(size_t k) const { return k < own; }
-  bool decides(const Vec3& p) const { return complete() || owning_region(regions, p) == region; }
   /// Whether this process counts the pair: of its two spheres, the one of
   /// the lower key is its own (so that every pair counts once over all).
   bool counts(const Overlap& o) const {
