@@ -148,6 +148,12 @@ struct FillOptions {
   /// With `engine`: the finish runs on engines it makes too (the LAMMPS
   /// engine), instead of being left out.
   bool finish_on_engine = false;
+  /// With `engine`: it computes the wall near its particles from the mesh
+  /// (ParticleEngine::share_exact_field; the LAMMPS engine, where each MPI
+  /// rank then holds only the bricks of the wall its spheres reach) instead
+  /// of reading a whole field; the fill's own field (birth sites, holes) is
+  /// then built at twice the spacing, an eighth of the samples.
+  bool wall_from_mesh = false;
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;

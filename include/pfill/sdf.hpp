@@ -70,6 +70,11 @@ struct SdfStats {
 /// side of `bounds` grown by `margin_spacings` spacings on each side.
 double spacing_for_resolution(const Box3& bounds, int samples_on_longest_axis, double margin_spacings = 3);
 
+/// The grid build_signed_distance_field lays over `bounds` (origin,
+/// spacing, dims; no values): the bounds plus the margin, centred. Throws
+/// pfill::Error on a bad spacing or margin, or a grid over max_samples.
+ScalarGrid sdf_lattice(const Box3& bounds, const SdfOptions& options);
+
 /// Builds the field of `boundary`'s mesh over its bounding box plus the
 /// margin, centred; parallel (TBB). Throws pfill::Error on a bad spacing,
 /// margin or band, or a grid over max_samples.

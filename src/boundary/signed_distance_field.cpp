@@ -296,18 +296,13 @@ double spacing_for_resolution(const Box3& bounds, int samples_on_longest_axis, d
   return longest / (samples_on_longest_axis - 1 - 2 * margin_spacings);
 }
 
-ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOptions& options, SdfStats* stats) {
-  const auto start = std::chrono::steady_clock::now();
+ScalarGrid sdf_lattice(const Box3& box, const SdfOptions& options) {
   const double h = options.spacing;
   if (!(h > 0) || !std::isfinite(h))
     throw Error("signed distance field: the spacing must be a positive finite number (got " + std::to_string(h) + ")");
   const double margin = options.margin < 0 ? 3 * h : options.margin;
-  const double band = options.band < 0 ? 4 * h : options.band;
-  const double outer_band = options.outer_band < 0 ? band : options.outer_band;
-  if (!std::isfinite(margin) || std::isnan(band) || std::isnan(outer_band))
-    throw Error("signed distance field: the margin must be finite and the bands numbers");
+  if (!std::isfinite(margin)) throw Error("signed distance field: the margin must be finite and the bands numbers");
 
-  const Box3 box = boundary.mesh().bounds();
   ScalarGrid grid;
   grid.spacing = h;
   double samples = 1;
@@ -328,7 +323,18 @@ ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOption
                 "radius), or check the mesh's bounds with `pfill info` for a vertex far from the rest");
   const Vec3 centre = box.centre();
   for (int a = 0; a < 3; ++a) grid.origin[a] = centre[a] - 0.5 * (grid.dims[a] - 1) * h;
-  grid.values.assign(static_cast<size_t>(samples), 0.0f);
+  return grid;
+}
+
+ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOptions& options, SdfStats* stats) {
+  const auto start = std::chrono::steady_clock::now();
+  ScalarGrid grid = sdf_lattice(boundary.mesh().bounds(), options);
+  const double h = options.spacing;
+  const double band = options.band < 0 ? 4 * h : options.band;
+  const double outer_band = options.outer_band < 0 ? band : options.outer_band;
+  if (std::isnan(band) || std::isnan(outer_band))
+    throw Error("signed distance field: the margin must be finite and the bands numbers");
+  grid.values.assign(static_cast<size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2], 0.0f);
 
   SdfStats local;
   FieldBuilder(boundary, grid, band, outer_band, options.inside_cell).run(options.progress, local);

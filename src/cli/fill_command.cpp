@@ -223,6 +223,7 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
     if (a.options.radii) usage_error("--engine lammps takes equal spheres only: leave out --radii");
     a.options.engine = lammps_engine_factory();  // one line when this pfill has no LAMMPS
     a.options.finish_on_engine = true;
+    a.options.wall_from_mesh = true;  // each rank computes only the wall its spheres reach
     rank = lammps_mpi_start().rank;
     writer = rank == 0;
     if (!writer) a.quiet = true, a.verbose = false, a.frames.clear();

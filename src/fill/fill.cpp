@@ -31,6 +31,7 @@
 #include "pfill/engine/engine.hpp"
 #include "pfill/engine/local_view.hpp"
 #include "pfill/error.hpp"
+#include "pfill/exact_field.hpp"
 #include "pfill/mesh_diagnostics.hpp"
 #include "pfill/peak_memory.hpp"
 #include "pfill/sdf.hpp"
@@ -141,11 +142,20 @@ class FillRun {
       device = std::async(std::launch::async, [this] { return std::make_unique<Device>(o_.device, profile_requested()); });
     boundary_ = std::make_unique<Boundary>(mesh_);
     SdfStats stats;
-    field_ = build_signed_distance_field(*boundary_, plan_.field, &stats);
+    if (o_.engine && o_.wall_from_mesh) {
+      // The engine's wall from the mesh, at the planned spacing; the fill's
+      // sites and holes on a field twice as coarse.
+      wall_ = std::make_unique<ExactField>(*boundary_, plan_.field);
+      SdfOptions coarse = plan_.field;
+      coarse.spacing *= 2;
+      field_ = build_signed_distance_field(*boundary_, coarse, &stats);
+    } else {
+      field_ = build_signed_distance_field(*boundary_, plan_.field, &stats);
+    }
     throw_if_cancelled();  // the field can take seconds; the device's program build too
     result_.field_seconds = stats.seconds;
     result_.field_bytes = stats.bytes;
-    result_.field_spacing = plan_.field.spacing;
+    result_.field_spacing = field_.spacing;
     plan_sites();
     rescale_for_large_first();
 
@@ -155,7 +165,10 @@ class FillRun {
     params_ = plan_engine_params(plan_, o_);
     engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
     if (o_.log) o_.log(engine_->describe());
-    engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
+    if (wall_)
+      engine_->share_exact_field(*wall_);
+    else
+      engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
   }
 
   // The birth sites on the field (and the room sites of waves).
@@ -227,6 +240,7 @@ class FillRun {
                                           progress);
     relax_steps_ = stats.steps;
     field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
+    wall_.reset();
     result_.finish_removed = stats.removed;
     result_.finish_forced = stats.forced;
     result_.finish_rounds = stats.rounds;
@@ -261,6 +275,7 @@ class FillRun {
     s.fire = (device_ != nullptr || o_.finish_on_engine) && s.compress_clearance == 0 && !plan_.sizes;
     s.first_id = next_id_;
     s.cancelled = o_.cancelled;
+    s.wall = wall_.get();
     return s;
   }
 
@@ -289,6 +304,7 @@ class FillRun {
   FillPlan plan_;
   std::unique_ptr<Boundary> boundary_;
   ScalarGrid field_;
+  std::unique_ptr<ExactField> wall_;  ///< FillOptions::wall_from_mesh: the engines' wall (field_ is then coarser)
   std::vector<BirthSite> sites_;
   std::vector<BirthSite> room_sites_;  ///< waves: the first births' extra sites (FillPasses)
   std::unique_ptr<Device> device_;

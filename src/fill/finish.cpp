@@ -97,7 +97,7 @@ class Finisher {
     p.wall_offset = s.radius * (1 + s.wall_margin) - engine_radius_;
     params_ = p;
     engine_ = make(p);
-    engine_->share_field(field);  // field_ outlives the engine
+    give_wall(*engine_);
   }
 
   /// `ids` empty: `ps` is the whole set; else this process's share of the
@@ -317,6 +317,14 @@ class Finisher {
     return relax_on(*engine_, engine_->size());
   }
 
+  /// The wall for a new engine: the field (it outlives the engine), or the mesh's exact one.
+  void give_wall(ParticleEngine& e) const {
+    if (s_.wall)
+      e.share_exact_field(*s_.wall);
+    else
+      e.share_field(field_);
+  }
+
   /// Relaxes only the spheres within `near_reach` r of a place in `hot_`,
   /// with those up to `near_hold` r further held still (as good as infinite
   /// mass), on an engine of their own; then the main engine takes them
@@ -333,13 +341,13 @@ class Finisher {
     ++stats_.near_rounds;
     engine_.reset();
     std::unique_ptr<ParticleEngine> local = make_(params_);
-    local->share_field(field_);
+    give_wall(*local);
     local->add_particles(region_particles(ps, region, kHeldMass));
     const bool stalled = relax_on(*local, ps.size());
     const std::vector<Particle> moved = local->read_particles();
     local.reset();
     engine_ = make_(params_);
-    engine_->share_field(field_);
+    give_wall(*engine_);
     engine_->add_particles(with_moved(std::move(ps), region, moved));
     return stalled;
   }

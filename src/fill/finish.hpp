@@ -80,6 +80,9 @@ struct FinishSettings {
   double fit_clearance = 2;     ///< then, a hole where the nearest centre is this many r away takes a sphere as it is
   uint64_t first_id = 1;        ///< ids given to the spheres inserted into holes, counting up (Particle::id)
   std::function<bool()> cancelled;  ///< polled at each read of the step history; true: throws pfill::Cancelled
+  /// The engines' wall computed from the mesh (FillOptions::wall_from_mesh;
+  /// it must outlive the finish); the field passed then only places holes.
+  const ExactField* wall = nullptr;
   double wall_margin = 0.01;    ///< centres kept this many r further inside than the field says (bunny: 30 spheres the exact check removed at 0, none at 0.01)
 };
 

@@ -3,6 +3,8 @@
 #include "lammps/band_field.hpp"
 
 #include <sys/mman.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -51,10 +53,58 @@ BandField::BandField(const ScalarGrid& field, double offset, double band)
   chunks_.resize((bricks_.size() + kChunkMask) >> kChunkShift);
 }
 
+BandField::BandField(const ExactField& exact, double offset, double band)
+    : field_(exact.lattice()), exact_(&exact), offset_(static_cast<float>(offset)), band_(band) {
+  for (int a = 0; a < 3; ++a) nb_[a] = (field_.dims[a] - 2) / kCells + 1;
+  index_.assign(static_cast<size_t>(nb_[0]) * nb_[1] * nb_[2], kUnseen);
+  // Trilinear in the samples of a 1-Lipschitz distance: each partial
+  // derivative is a mean of differences of at most a spacing each.
+  lipschitz_ = 1.0001 * std::sqrt(3.0);
+}
+
 BandField::~BandField() = default;
+
+int32_t BandField::open_group(int bi, int bj, int bk) {
+  const int g[3] = {bi / kGroup * kGroup, bj / kGroup * kGroup, bk / kGroup * kGroup};
+  const double h = field_.spacing, half_diagonal = 0.5 * std::sqrt(3.0) * kCells * h;
+  const size_t first = bricks_.size();
+  for (int z = g[2]; z < std::min(g[2] + kGroup, nb_[2]); ++z)
+    for (int y = g[1]; y < std::min(g[1] + kGroup, nb_[1]); ++y)
+      for (int x = g[0]; x < std::min(g[0] + kGroup, nb_[0]); ++x) {
+        // (A brick past the grid's upper faces repeats their samples: its
+        // clamped centre's ball still holds them.)
+        const Vec3 centre = field_.point(x * kCells, y * kCells, z * kCells) + Vec3(1, 1, 1) * (0.5 * kCells * h);
+        const bool deep = exact_->at(centre) + offset_ <= -(band_ + half_diagonal);
+        const size_t b = brick_index(x, y, z);
+        index_[b] = deep ? kDeep : static_cast<int32_t>(bricks_.size());
+        if (!deep) bricks_.push_back(static_cast<int32_t>(b));
+      }
+  chunks_.resize((bricks_.size() + kChunkMask) >> kChunkShift);
+  for (size_t s = first; s < bricks_.size(); ++s) {
+    std::unique_ptr<float[], FreeChunk>& c = chunks_[s >> kChunkShift];
+    if (!c) c.reset(allocate_chunk());
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(first, bricks_.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t s = r.begin(); s != r.end(); ++s)
+      compute_brick(static_cast<size_t>(bricks_[s]),
+                    chunks_[s >> kChunkShift].get() + (s & static_cast<size_t>(kChunkMask)) * kBrickFloats);
+  });
+  return index_[brick_index(bi, bj, bk)];
+}
+
+void BandField::compute_brick(size_t b, float* v) const {
+  const int bi = static_cast<int>(b % nb_[0]), bj = static_cast<int>(b / nb_[0] % nb_[1]),
+            bk = static_cast<int>(b / nb_[0] / nb_[1]);
+  for (int z = 0; z < kSide; ++z)
+    for (int y = 0; y < kSide; ++y)
+      for (int x = 0; x < kSide; ++x)
+        v[x + kSide * (y + kSide * z)] =
+            static_cast<float>(exact_->at(bi * kCells + x, bj * kCells + y, bk * kCells + z)) + offset_;
+}
 
 size_t BandField::bytes() const {
   size_t n = index_.size() * sizeof(int32_t) + bricks_.size() * sizeof(int32_t);
+  if (exact_) return n + bricks_.size() * kBrickFloats * sizeof(float);  // (the last chunk's rest: not yet written)
   for (const auto& c : chunks_) n += c ? kChunkBytes : 0;
   return n;
 }
@@ -71,11 +121,15 @@ void BandField::read_brick(size_t b, float* v) const {
     }
 }
 
-void BandField::fill_chunk(int32_t chunk) {
+float* BandField::allocate_chunk() {
   void* p = std::aligned_alloc(kChunkBytes, kChunkBytes);
   if (!p) throw std::bad_alloc();
   madvise(p, kChunkBytes, MADV_HUGEPAGE);  // one TLB entry for 4,096 bricks, where the kernel allows
-  float* values = static_cast<float*>(p);
+  return static_cast<float*>(p);
+}
+
+void BandField::fill_chunk(int32_t chunk) {
+  float* values = allocate_chunk();
   const size_t first = static_cast<size_t>(chunk) << kChunkShift;
   for (size_t s = first; s < std::min(bricks_.size(), first + kChunkMask + 1); ++s)
     read_brick(static_cast<size_t>(bricks_[s]), values + (s - first) * kBrickFloats);
@@ -116,7 +170,10 @@ double BandField::sample(double px, double py, double pz, double* g) {
   // (the wall's push never samples so deep; exact all the same)
   const Cell c = cell_at(px, py, pz);
   double v[8];
-  for (int n = 0; n < 8; ++n) v[n] = field_.at(c.i + (n & 1), c.j + ((n >> 1) & 1), c.k + ((n >> 2) & 1)) + offset_;
+  for (int n = 0; n < 8; ++n) {
+    const int i = c.i + (n & 1), j = c.j + ((n >> 1) & 1), k = c.k + ((n >> 2) & 1);
+    v[n] = (exact_ ? static_cast<float>(exact_->at(i, j, k)) : field_.at(i, j, k)) + offset_;
+  }
   return physics::pf_trilinear(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], c.tx, c.ty, c.tz, 1 / field_.spacing,
                                g);
 }

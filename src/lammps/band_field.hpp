@@ -14,7 +14,15 @@
 // cache misses stayed). Slots are filled in chunks of 4,096 bricks, each
 // when a sphere first reads one of its bricks: a rank holds the bricks
 // near the wall in and around its own sub-domain, not the field. The same
-// pass bounds the interpolant's slope. The wall's offset
+// pass bounds the interpolant's slope.
+//
+// Or, from an ExactField (no flat grid anywhere: the LAMMPS engine's
+// default), each group of 4^3 bricks is looked at when a sphere first
+// reads one of them: a brick whose centre lies deeper than the band plus
+// its half diagonal is deep (the distance is 1-Lipschitz), the others get
+// the next slots, in the group's order, and their samples computed from
+// the mesh (the exact values the whole field holds near the wall). A rank
+// then computes and holds only the bricks its own spheres reach. The wall's offset
 // (EngineParams::wall_offset) is added to each sample as the kernels add
 // it (a float sum), so a moved wall needs no shifted copy either.
 #pragma once
@@ -23,6 +31,7 @@
 #include <memory>
 #include <vector>
 
+#include "pfill/exact_field.hpp"
 #include "pfill/grid.hpp"
 
 namespace pfill {
@@ -33,6 +42,8 @@ class BandField {
   /// `field` must outlive this; `offset` is added to every sample (as a
   /// float); bricks all of whose samples are at most -band are deep.
   BandField(const ScalarGrid& field, double offset, double band);
+  /// The same over `exact`'s grid (it must outlive this), samples computed on first use.
+  BandField(const ExactField& exact, double offset, double band);
   BandField(const BandField&) = delete;
   BandField& operator=(const BandField&) = delete;
   ~BandField();
@@ -50,8 +61,11 @@ class BandField {
   /// Hints that p, last seen in brick `slot` (from sample_unless_deep; < 0:
   /// none), will be sampled soon: the cache lines of its cell's corners.
   void prefetch(double px, double py, double pz, int32_t slot) const;
-  /// Bytes held in bricks (the index of bricks included).
+  /// Bytes held in bricks (the index of bricks included; from an
+  /// ExactField, the bricks computed, in chunks of 2 MiB allocated as they fill).
   size_t bytes() const;
+  /// Bricks given samples so far (the deep ones hold none).
+  size_t bricks() const { return bricks_.size(); }
 
  private:
   struct Cell {
@@ -59,11 +73,17 @@ class BandField {
     double tx, ty, tz;
   };
   Cell cell_at(double px, double py, double pz) const;
-  /// The brick holding cell (i, j, k): its slot, or kDeep.
-  int32_t brick(int i, int j, int k) const {
-    const int bi = i / kCells, bj = j / kCells, bk = k / kCells;
-    return index_[static_cast<size_t>(bi) + static_cast<size_t>(nb_[0]) * (bj + static_cast<size_t>(nb_[1]) * bk)];
+  size_t brick_index(int bi, int bj, int bk) const {
+    return static_cast<size_t>(bi) + static_cast<size_t>(nb_[0]) * (bj + static_cast<size_t>(nb_[1]) * bk);
   }
+  /// The brick holding cell (i, j, k): its slot, or kDeep (its group looked at first, from an ExactField).
+  int32_t brick(int i, int j, int k) {
+    const int32_t b = index_[brick_index(i / kCells, j / kCells, k / kCells)];
+    return b == kUnseen ? open_group(i / kCells, j / kCells, k / kCells) : b;
+  }
+  /// From an ExactField: the group of brick (bi, bj, bk) given slots and
+  /// samples, or marked deep; returns that brick's slot or kDeep.
+  int32_t open_group(int bi, int bj, int bk);
   /// Brick b's samples (clamped into the grid past its upper faces), offset added.
   void read_brick(size_t b, float* v) const;
   /// A slot's samples; its chunk filled on first use.
@@ -76,16 +96,21 @@ class BandField {
     return c.get() + (slot & kChunkMask) * kBrickFloats;
   }
   void fill_chunk(int32_t chunk);
+  static float* allocate_chunk();
+  /// Brick b's samples computed from the ExactField.
+  void compute_brick(size_t b, float* v) const;
 
   static constexpr int kCells = 4, kSide = kCells + 1;  // a brick's cells and samples a side
   static constexpr int kBrickFloats = 128;              // kSide^3 = 125, padded to 512 bytes
   static constexpr int kChunkShift = 12, kChunkMask = (1 << kChunkShift) - 1;  // 4,096 bricks (2 MiB) a chunk
-  static constexpr int32_t kDeep = -1;
+  static constexpr int kGroup = 4;  // bricks a side looked at together (from an ExactField)
+  static constexpr int32_t kDeep = -1, kUnseen = -2;
 
   struct FreeChunk {
     void operator()(float* p) const;
   };
-  const ScalarGrid& field_;
+  const ScalarGrid& field_;  // the flat grid, or the ExactField's grid (no values)
+  const ExactField* exact_ = nullptr;
   float offset_;
   double band_;
   int nb_[3] = {0, 0, 0};

@@ -67,11 +67,21 @@ class LammpsEngine final : public ParticleEngine {
 
   void set_field(const ScalarGrid& field) override {
     own_field_ = field;
-    field_changed(own_field_);
+    share_field(own_field_);
   }
 
   /// No copy, also with a wall offset: the callback adds it as it reads (band_field.hpp).
-  void share_field(const ScalarGrid& field) override { field_changed(field); }
+  void share_field(const ScalarGrid& field) override {
+    step_.set_field(field, params_.wall_offset, box_made_);
+    box_on_field(field);
+  }
+  /// Each rank computes only the bricks near the wall its atoms reach (band_field.hpp).
+  bool takes_exact_field() const override { return true; }
+  size_t field_bytes() const override { return step_.field_bytes(); }
+  void share_exact_field(const ExactField& field) override {
+    step_.set_field(field, params_.wall_offset, box_made_);
+    box_on_field(field.lattice());
+  }
 
   size_t add_particles(const std::vector<Particle>& ps) override {
     flush();
@@ -223,8 +233,8 @@ class LammpsEngine final : public ParticleEngine {
     box_made_ = true;
   }
 
-  void field_changed(const ScalarGrid& f) {
-    step_.set_field(f, params_.wall_offset, box_made_);
+  /// The first field gives the box LAMMPS decomposes.
+  void box_on_field(const ScalarGrid& f) {
     if (!box_made_) {
       const Vec3 hi = f.origin + Vec3{(f.dims[0] - 1) * f.spacing, (f.dims[1] - 1) * f.spacing,
                                       (f.dims[2] - 1) * f.spacing};

@@ -39,7 +39,15 @@ void StepCallback::set_clamp(const double lo[3], const double hi[3]) {
 
 void StepCallback::set_field(const ScalarGrid& f, double offset, bool atoms_exist) {
   // Bricks deeper than two of the largest radii: no sphere there reaches the wall.
-  field_ = std::make_unique<BandField>(f, offset, 2 * constants_.max_radius);
+  set_band_field(std::make_unique<BandField>(f, offset, 2 * constants_.max_radius), atoms_exist);
+}
+
+void StepCallback::set_field(const ExactField& f, double offset, bool atoms_exist) {
+  set_band_field(std::make_unique<BandField>(f, offset, 2 * constants_.max_radius), atoms_exist);
+}
+
+void StepCallback::set_band_field(std::unique_ptr<BandField> field, bool atoms_exist) {
+  field_ = std::move(field);
   lipschitz_ = field_->lipschitz();
   // Bounds kept from another field mean nothing: every atom samples the new one first.
   if (atoms_exist && session_.nlocal() > 0) {

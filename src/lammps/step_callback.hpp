@@ -48,6 +48,10 @@ class StepCallback {
   /// kernels add it); with `atoms_exist`, this rank's atoms' kept bounds on
   /// the field are reset, so each samples the new one.
   void set_field(const ScalarGrid& field, double offset, bool atoms_exist);
+  /// As set_field, the wall's samples computed from `field` where this rank's atoms reach it.
+  void set_field(const ExactField& field, double offset, bool atoms_exist);
+  /// Bytes of the field's bricks this rank holds.
+  size_t field_bytes() const { return field_ ? field_->bytes() : 0; }
   /// The step number a `run` starts at: its set-up calls the callback at that step, which is no step.
   void set_run_start(uint64_t step) { run_start_ = step; }
 
@@ -69,6 +73,8 @@ class StepCallback {
   const EngineParams& params_;
   const EngineConstants& constants_;
   LammpsSession& session_;
+  void set_band_field(std::unique_ptr<BandField> field, bool atoms_exist);
+
   std::unique_ptr<BandField> field_;  // null: no wall
   double lipschitz_ = 2;  // the field interpolant's largest slope
   double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0};

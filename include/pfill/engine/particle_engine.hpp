@@ -28,6 +28,8 @@ struct Particle {
   uint64_t id = 0; ///< the caller's label; the engine keeps it with the particle (removals, sorts)
 };
 
+class ExactField;  // pfill/exact_field.hpp
+
 class ParticleEngine {
  public:
   virtual ~ParticleEngine() = default;
@@ -42,6 +44,19 @@ class ParticleEngine {
   /// As set_field, but the engine may read `field` in place instead of a
   /// copy (then `field` must stay unchanged and outlive the engine).
   virtual void share_field(const ScalarGrid& field) { set_field(field); }
+  /// Bytes this process holds of the wall's field for the engine (the
+  /// LAMMPS engine: its bricks near the wall); 0 when it reads the
+  /// caller's field in place.
+  virtual size_t field_bytes() const { return 0; }
+  /// Whether the engine can take its wall as an ExactField (share_exact_field).
+  virtual bool takes_exact_field() const { return false; }
+  /// The wall computed from the mesh where the engine's particles reach it
+  /// (`field` must outlive the engine): no whole grid held. Engines that
+  /// cannot (takes_exact_field() false) throw pfill::Error.
+  virtual void share_exact_field(const ExactField& field) {
+    (void)field;
+    throw Error(describe() + " needs the wall's field as a grid in memory (share_field)");
+  }
   /// Appends particles; returns the index of the first.
   virtual size_t add_particles(const std::vector<Particle>& particles) = 0;
   size_t add_particle(const Particle& p) { return add_particles({p}); }
