@@ -32,7 +32,7 @@ message(STATUS "pfill: the LAMMPS engine: ${PFILL_HAVE_LAMMPS} (PFILL_WITH_LAMMP
 
 # pfill_lammps_layer(): after the layers below it exist.
 function(pfill_lammps_layer)
-  pfill_layer(lammps USES engine boundary LIBS TBB::tbb)  # boundary: the wall computed from the mesh (exact_field.hpp)
+  pfill_layer(lammps USES engine boundary)  # boundary: the wall computed from the mesh (exact_field.hpp)
   if(PFILL_HAVE_LAMMPS)
     target_link_libraries(pfill_lammps PRIVATE LAMMPS::lammps MPI::MPI_CXX)
     target_compile_definitions(pfill_lammps PRIVATE PFILL_WITH_LAMMPS=1 OMPI_SKIP_MPICXX=1 MPICH_SKIP_MPICXX=1)

@@ -2,8 +2,8 @@
 // ExactField, src/lammps/band_field.hpp): each rank computes the bricks of
 // the field near the wall where its own spheres reach, and no process holds
 // the whole field. ctest runs this file as it is (one process) and under
-// `mpirun -np 2` (mpi2.test_lammps_wall). Without LAMMPS built in, nothing
-// here runs.
+// `mpirun -np 2` (mpi2.test_lammps_wall). Without LAMMPS built in, each
+// case says it is skipped.
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "lammps_fixtures.hpp"
+#include "skip.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/engine/reference.hpp"
 #include "pfill/exact_field.hpp"
@@ -72,7 +73,7 @@ uint64_t band_bytes(const ExactField& exact, double band) {
 }  // namespace
 
 TEST_CASE("lammps wall: computed from the mesh, the steps of the reference engine on the whole field") {
-  if (!lammps_available()) return;
+  if (!lammps_available()) PFILL_SKIP("this pfill was built without LAMMPS");
   const Mesh ball = make_icosphere(kBall, 4);
   const Boundary boundary(ball);
   const ScalarGrid whole = build_signed_distance_field(boundary, exact_everywhere());
@@ -110,7 +111,7 @@ TEST_CASE("lammps wall: computed from the mesh, the steps of the reference engin
 }
 
 TEST_CASE("lammps wall: each rank computes only the bricks its spheres reach") {
-  if (!lammps_available()) return;
+  if (!lammps_available()) PFILL_SKIP("this pfill was built without LAMMPS");
   const Mesh ball = make_icosphere(kBall, 4);
   const Boundary boundary(ball);
   const ExactField exact(boundary, exact_everywhere());
@@ -135,7 +136,7 @@ TEST_CASE("lammps wall: each rank computes only the bricks its spheres reach") {
 }
 
 TEST_CASE("lammps wall: a fill with the wall from the mesh keeps every sphere inside, on a coarser field of its own") {
-  if (!lammps_available()) return;
+  if (!lammps_available()) PFILL_SKIP("this pfill was built without LAMMPS");
   FillOptions o;
   o.count = 300;
   o.seed = 2;

@@ -7,6 +7,8 @@
 /// holds the whole field (docs/lammps_engine.md, "The wall's field per
 /// rank").
 #pragma once
+#include <limits>
+
 #include "pfill/boundary.hpp"
 #include "pfill/grid.hpp"
 #include "pfill/sdf.hpp"
@@ -24,8 +26,9 @@ class ExactField {
   const ScalarGrid& lattice() const { return lattice_; }
   /// The signed distance at grid point (i, j, k), each clamped into the
   /// grid: negative inside, computed as the whole field's exact samples are
-  /// (Boundary::fast_signed_distance). Thread-safe.
-  double at(int i, int j, int k) const;
+  /// (Boundary::fast_signed_distance); `bound`, a bound on its magnitude
+  /// known to the caller, narrows the search. Thread-safe.
+  double at(int i, int j, int k, double bound = std::numeric_limits<double>::infinity()) const;
   /// The signed distance at p. Thread-safe.
   double at(const Vec3& p) const { return boundary_.fast_signed_distance(p); }
 

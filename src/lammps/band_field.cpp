@@ -3,8 +3,6 @@
 #include "lammps/band_field.hpp"
 
 #include <sys/mman.h>
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
@@ -67,6 +65,11 @@ BandField::~BandField() = default;
 int32_t BandField::open_group(int bi, int bj, int bk) {
   const int g[3] = {bi / kGroup * kGroup, bj / kGroup * kGroup, bk / kGroup * kGroup};
   const double h = field_.spacing, half_diagonal = 0.5 * std::sqrt(3.0) * kCells * h;
+  // The group's samples, each computed once though neighbouring bricks
+  // share their faces: per sample, a bound on its distance (0: not needed).
+  constexpr int kL = kGroup * kCells + 1;
+  std::vector<float> values(kL * kL * kL), bound(kL * kL * kL, 0.0f);
+  auto sample_index = [](int x, int y, int z) { return static_cast<size_t>(x + kL * (y + kL * z)); };
   const size_t first = bricks_.size();
   for (int z = g[2]; z < std::min(g[2] + kGroup, nb_[2]); ++z)
     for (int y = g[1]; y < std::min(g[1] + kGroup, nb_[1]); ++y)
@@ -74,32 +77,47 @@ int32_t BandField::open_group(int bi, int bj, int bk) {
         // (A brick past the grid's upper faces repeats their samples: its
         // clamped centre's ball still holds them.)
         const Vec3 centre = field_.point(x * kCells, y * kCells, z * kCells) + Vec3(1, 1, 1) * (0.5 * kCells * h);
-        const bool deep = exact_->at(centre) + offset_ <= -(band_ + half_diagonal);
+        const double d = exact_->at(centre);
         const size_t b = brick_index(x, y, z);
-        index_[b] = deep ? kDeep : static_cast<int32_t>(bricks_.size());
-        if (!deep) bricks_.push_back(static_cast<int32_t>(b));
+        if (d + offset_ <= -(band_ + half_diagonal)) {
+          index_[b] = kDeep;
+          continue;
+        }
+        index_[b] = static_cast<int32_t>(bricks_.size());
+        bricks_.push_back(static_cast<int32_t>(b));
+        const float reach = static_cast<float>(1.01 * (std::fabs(d) + half_diagonal));
+        for (int sz = 0; sz < kSide; ++sz)
+          for (int sy = 0; sy < kSide; ++sy)
+            for (int sx = 0; sx < kSide; ++sx) {
+              const size_t n = sample_index((x - g[0]) * kCells + sx, (y - g[1]) * kCells + sy, (z - g[2]) * kCells + sz);
+              bound[n] = std::max(bound[n], reach);
+            }
       }
-  chunks_.resize((bricks_.size() + kChunkMask) >> kChunkShift);
-  for (size_t s = first; s < bricks_.size(); ++s) {
-    std::unique_ptr<float[], FreeChunk>& c = chunks_[s >> kChunkShift];
-    if (!c) c.reset(allocate_chunk());
+  std::vector<uint32_t> needed;
+  for (size_t n = 0; n < bound.size(); ++n)
+    if (bound[n] > 0) needed.push_back(static_cast<uint32_t>(n));
+  // On this thread: a group is a few ms, and TBB's workers, spinning
+  // after each, would take the core of the next MPI rank.
+  for (const uint32_t m : needed) {
+    const int n = static_cast<int>(m);
+    values[m] = static_cast<float>(
+        exact_->at(g[0] * kCells + n % kL, g[1] * kCells + n / kL % kL, g[2] * kCells + n / (kL * kL), bound[m]));
   }
-  tbb::parallel_for(tbb::blocked_range<size_t>(first, bricks_.size(), 1), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t s = r.begin(); s != r.end(); ++s)
-      compute_brick(static_cast<size_t>(bricks_[s]),
-                    chunks_[s >> kChunkShift].get() + (s & static_cast<size_t>(kChunkMask)) * kBrickFloats);
-  });
+  chunks_.resize((bricks_.size() + kChunkMask) >> kChunkShift);
+  for (size_t slot = first; slot < bricks_.size(); ++slot) {
+    std::unique_ptr<float[], FreeChunk>& c = chunks_[slot >> kChunkShift];
+    if (!c) c.reset(allocate_chunk());
+    float* v = c.get() + (slot & static_cast<size_t>(kChunkMask)) * kBrickFloats;
+    const size_t b = static_cast<size_t>(bricks_[slot]);
+    const int x0 = static_cast<int>(b % nb_[0]) * kCells - g[0] * kCells,
+              y0 = static_cast<int>(b / nb_[0] % nb_[1]) * kCells - g[1] * kCells,
+              z0 = static_cast<int>(b / nb_[0] / nb_[1]) * kCells - g[2] * kCells;
+    for (int z = 0; z < kSide; ++z)
+      for (int y = 0; y < kSide; ++y)
+        for (int x = 0; x < kSide; ++x)
+          v[x + kSide * (y + kSide * z)] = values[sample_index(x0 + x, y0 + y, z0 + z)] + offset_;
+  }
   return index_[brick_index(bi, bj, bk)];
-}
-
-void BandField::compute_brick(size_t b, float* v) const {
-  const int bi = static_cast<int>(b % nb_[0]), bj = static_cast<int>(b / nb_[0] % nb_[1]),
-            bk = static_cast<int>(b / nb_[0] / nb_[1]);
-  for (int z = 0; z < kSide; ++z)
-    for (int y = 0; y < kSide; ++y)
-      for (int x = 0; x < kSide; ++x)
-        v[x + kSide * (y + kSide * z)] =
-            static_cast<float>(exact_->at(bi * kCells + x, bj * kCells + y, bk * kCells + z)) + offset_;
 }
 
 size_t BandField::bytes() const {

@@ -97,8 +97,6 @@ class BandField {
   }
   void fill_chunk(int32_t chunk);
   static float* allocate_chunk();
-  /// Brick b's samples computed from the ExactField.
-  void compute_brick(size_t b, float* v) const;
 
   static constexpr int kCells = 4, kSide = kCells + 1;  // a brick's cells and samples a side
   static constexpr int kBrickFloats = 128;              // kSide^3 = 125, padded to 512 bytes
