@@ -186,11 +186,14 @@ TEST_CASE("CentreGrid finds every centre within a cell of a point: dense cells, 
   }
 }
 
-TEST_CASE("find_holes in a random packing: every hole deep enough, clear of every centre and of the other holes") {
+namespace {
+
+/// Random sequential addition of spheres of radius r in [-0.5, 0.5]^3, 2r
+/// apart: a loose packing (~0.3) with holes left between them.
+ParticleSet loose_packing(double r) {
   std::mt19937_64 rng(3);
   std::uniform_real_distribution<double> u(-0.5, 0.5);
-  const double r = 0.05;
-  ParticleSet loose;  // random sequential addition: spheres 2r apart, with holes left between them
+  ParticleSet loose;
   for (int tries = 0; tries < 4000; ++tries) {
     const Vec3 p(u(rng), u(rng), u(rng));
     bool clear = true;
@@ -199,6 +202,14 @@ TEST_CASE("find_holes in a random packing: every hole deep enough, clear of ever
     loose.positions.push_back(p);
     loose.radii.push_back(r);
   }
+  return loose;
+}
+
+}  // namespace
+
+TEST_CASE("find_holes in a random packing: every hole deep enough, clear of every centre and of the other holes") {
+  const double r = 0.05;
+  const ParticleSet loose = loose_packing(r);
   ScalarGrid sdf;  // a box [-0.6, 0.6]^3 at 0.33 r, sampled analytically
   sdf.spacing = r / 3;
   const int n = static_cast<int>(std::ceil(1.2 / sdf.spacing)) + 1;
@@ -224,6 +235,36 @@ TEST_CASE("find_holes in a random packing: every hole deep enough, clear of ever
     for (size_t g = 0; g < h; ++g) CHECK(length(p - holes[g]) >= clearance);
   }
   CHECK(find_holes(loose, sdf, r, clearance, 5).size() == 5);
+}
+
+// The finish's holes with the wall from the mesh (FillOptions::wall_from_mesh):
+// a grid without values lays out the search, the distance comes from a function.
+TEST_CASE("find_holes by an exact distance: deep enough by it, as many as on a sampled grid of it") {
+  const double r = 0.05;
+  const ParticleSet loose = loose_packing(r);
+  auto ball = [](const Vec3& p) { return length(p) - 0.52; };  // curved: the grid's interpolation misses it a little
+  const ScalarGrid sdf = sampled_grid(0.6, 2 * r / 3, ball);
+  ScalarGrid lattice = sdf;
+  lattice.values.clear();  // the exact search must not read them
+  const double clearance = 1.9 * r;
+  const std::vector<Vec3> on_grid = find_holes(loose, sdf, r, clearance, 1000);
+  const std::vector<Vec3> exact = find_holes(loose, lattice, ball, r, clearance, 1000);
+  INFO(exact.size() << " holes by the exact distance, " << on_grid.size() << " on its grid");
+  REQUIRE(exact.size() > 10);
+  CHECK(std::abs(static_cast<double>(exact.size()) - static_cast<double>(on_grid.size())) <=
+        0.1 * static_cast<double>(on_grid.size()));
+  for (size_t h = 0; h < exact.size(); ++h) {
+    CHECK(-ball(exact[h]) >= r - 1e-9);
+    double nearest = 1e9;
+    for (const Vec3& q : loose.positions) nearest = std::min(nearest, length(exact[h] - q));
+    CHECK(nearest >= clearance);
+    for (size_t g = 0; g < h; ++g) CHECK(length(exact[h] - exact[g]) >= clearance);
+  }
+  const Box3 half{{-0.6, -0.6, -0.6}, {0.0, 0.6, 0.6}};  // a process's sub-domain
+  const std::vector<Vec3> in_half = find_holes(loose, lattice, ball, r, clearance, 1000, 0, nullptr, &half);
+  CHECK(in_half.size() > exact.size() / 4);
+  CHECK(in_half.size() < 3 * exact.size() / 4);
+  for (const Vec3& p : in_half) CHECK(p.x <= 2 * clearance);  // (a climb may end a little outside it)
 }
 
 TEST_CASE("largest empty hole and closest centres of a lattice, full and with a sphere taken out") {

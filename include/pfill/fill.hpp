@@ -151,8 +151,9 @@ struct FillOptions {
   /// With `engine`: it computes the wall near its particles from the mesh
   /// (ParticleEngine::share_exact_field; the LAMMPS engine, where each MPI
   /// rank then holds only the bricks of the wall its spheres reach) instead
-  /// of reading a whole field; the fill's own field (birth sites, holes) is
-  /// then built at twice the spacing, an eighth of the samples.
+  /// of reading a whole field; the fill's own field, for the birth sites,
+  /// is then built at twice the spacing (an eighth of the samples) and its
+  /// samples freed once they are chosen; the finish's holes ask the mesh.
   bool wall_from_mesh = false;
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;

@@ -3,6 +3,7 @@
 /// physics has jammed, the fill inserts spheres there and relaxes again,
 /// which lifts the density and makes it depend less on the seed.
 #pragma once
+#include <functional>
 #include <vector>
 
 #include "pfill/grid.hpp"
@@ -25,5 +26,13 @@ namespace pfill {
 std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
                              size_t limit, double reference_radius = 0, std::vector<double>* distances = nullptr,
                              const Box3* within = nullptr);
+
+/// As above, with "inside" by `signed_distance` (exact, say: ExactField)
+/// at the points of `lattice`, whose values are not read (it may hold
+/// none); only the points no centre is near are asked, and the climbs.
+std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& lattice,
+                             const std::function<double(const Vec3&)>& signed_distance, double radius,
+                             double clearance, size_t limit, double reference_radius = 0,
+                             std::vector<double>* distances = nullptr, const Box3* within = nullptr);
 
 }  // namespace pfill

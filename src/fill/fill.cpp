@@ -68,6 +68,9 @@ class FillRun {
     note_device_times();
     FillPasses passes(*engine_, o_, plan_, sites_, room_sites_, reporter_, result_);
     passes.place_large_first(field_);
+    // With the wall from the mesh, the field's samples served the sites
+    // only: the finish's holes ask the mesh (its grid, kept, lays them out).
+    if (wall_) std::vector<float>().swap(field_.values);
     size_caps_ = passes.size_caps();
     result_.setup_seconds = std::max(0.0, reporter_.elapsed() - result_.field_seconds);
     passes.pass1();

@@ -38,6 +38,7 @@
 #include <utility>
 
 #include "pfill/error.hpp"
+#include "pfill/exact_field.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/sdf.hpp"
 #include "pfill/voids.hpp"
@@ -146,8 +147,7 @@ class Finisher {
       std::vector<double> gaps;
       const std::vector<Vec3> holes =
           holes_decided_here(*engine_, view_,
-                             find_holes(view_.set, field_, deep_, clearance * s_.radius, view_.set.size(),
-                                        sizes_ ? s_.radius : 0, &gaps, view_.mine()),
+                             holes_in(view_.set, clearance * s_.radius, sizes_ ? s_.radius : 0, &gaps, view_.mine()),
                              gaps, clearance * s_.radius);
       // A round of a few holes does not pay for its relaxation (each takes
       // about 1,500 steps to settle, whatever the number of newcomers): the
@@ -236,9 +236,9 @@ class Finisher {
     if (all_held(now)) return now;
     std::vector<double> gaps;
     const std::vector<Vec3> fits =
-        s_.hole_rounds > 0 ? find_holes(now, field_, deep_, s_.fit_clearance * s_.radius * (1 + 1e-6), now.size(),
-                                        sizes_ ? s_.radius : 0, &gaps)
-                           : std::vector<Vec3>{};
+        s_.hole_rounds > 0
+            ? holes_in(now, s_.fit_clearance * s_.radius * (1 + 1e-6), sizes_ ? s_.radius : 0, &gaps, nullptr)
+            : std::vector<Vec3>{};
     if (sizes_) sizes_->recount(now.radii);
     const size_t before = now.size();
     for (size_t k = 0; k < fits.size(); ++k) {
@@ -269,8 +269,7 @@ class Finisher {
     std::vector<double> gaps;
     const std::vector<Vec3> fits =
         s_.hole_rounds > 0 ? holes_decided_here(*engine_, view_,
-                                                find_holes(view_.set, field_, deep_, clearance * (1 + 1e-6),
-                                                           view_.set.size(), 0, &gaps, view_.mine()),
+                                                holes_in(view_.set, clearance * (1 + 1e-6), 0, &gaps, view_.mine()),
                                                 gaps, clearance)
                            : std::vector<Vec3>{};
     std::vector<Particle> newcomers(fits.size());
@@ -305,7 +304,8 @@ class Finisher {
   /// deep enough inside by the field): of the class furthest below its
   /// share that fits; 0 when none does.
   double hole_radius(const Vec3& p, double room) {
-    return sizes_->take_within(std::min(room, -sample(field_, p) / (1 + s_.wall_margin)), rng_);
+    const double depth = -(s_.wall ? s_.wall->at(p) : sample(field_, p));
+    return sizes_->take_within(std::min(room, depth / (1 + s_.wall_margin)), rng_);
   }
 
   /// A relaxation: of the spheres near the last round's pairs over the
@@ -315,6 +315,17 @@ class Finisher {
     if (!hot_.empty() && engine_->size() >= s_.near_min_spheres)
       if (const std::optional<bool> stalled = relax_near()) return *stalled;
     return relax_on(*engine_, engine_->size());
+  }
+
+  /// find_holes in `set`, at most one a sphere, `deep_` inside: by the
+  /// mesh's exact distances where the engines' wall is the mesh's (the
+  /// field is then coarser), else by the field.
+  std::vector<Vec3> holes_in(const ParticleSet& set, double clearance, double reference_radius,
+                             std::vector<double>* gaps, const Box3* within) const {
+    if (s_.wall)
+      return find_holes(set, field_, [this](const Vec3& p) { return s_.wall->at(p); }, deep_, clearance, set.size(),
+                        reference_radius, gaps, within);
+    return find_holes(set, field_, deep_, clearance, set.size(), reference_radius, gaps, within);
   }
 
   /// The wall for a new engine: the field (it outlives the engine), or the mesh's exact one.

@@ -12,9 +12,14 @@
 #include "pfill/sdf.hpp"
 
 namespace pfill {
-std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
-                             size_t limit, double reference_radius, std::vector<double>* distances,
-                             const Box3* within) {
+namespace {
+
+/// find_holes over the points of `sdf` (its spacing, origin and dims),
+/// with the signed distance at a grid point (`at_point`) and anywhere (`at`).
+template <typename AtPoint, typename At>
+std::vector<Vec3> holes_on_lattice(const ParticleSet& particles, const ScalarGrid& sdf, const AtPoint& at_point,
+                                   const At& at, double radius, double clearance, size_t limit,
+                                   double reference_radius, std::vector<double>* distances, const Box3* within) {
   std::vector<Vec3> holes;
   // Unequal spheres: distances to sphere surfaces, plus the reference
   // radius (so that for spheres of that radius they are centre distances).
@@ -53,7 +58,6 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
   tbb::parallel_for(first[2], std::max(first[2], last[2]), [&](int k) {  // (no hole is taken yet: `nearest` only reads)
     for (int j = first[1]; j < last[1]; ++j)
       for (int i = first[0]; i < last[0]; ++i) {
-        if (-sdf.at(i, j, k) < radius) continue;
         const Vec3 p = sdf.point(i, j, k);
         // Most points have a centre well within the clearance: one found ends the search.
         if (grid.any_near(p, [&](uint32_t id) {
@@ -62,6 +66,7 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
               return length(v) - offset(id) < least * (1 - 1e-9);
             }))
           continue;
+        if (-at_point(i, j, k) < radius) continue;  // (after the centres: it may be an exact distance, dearer)
         const double d = nearest(p);
         if (d >= clearance - miss) slices[static_cast<size_t>(k)].push_back({p, d});
       }
@@ -77,13 +82,33 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
     Vec3 p = c.p;
     if (nearest(p) < clearance - miss) continue;  // a hole taken since
     const double d = climb_to_hole_centre(p, 0.5 * sdf.spacing, 0.005 * radius, nearest,
-                                          [&](const Vec3& q) { return -sample(sdf, q) >= radius; });
+                                          [&](const Vec3& q) { return -at(q) >= radius; });
     if (d < clearance) continue;
     holes.push_back(p);
     if (distances) distances->push_back(d);
     grid.insert(p, next_id++);
   }
   return holes;
+}
+
+}  // namespace
+
+std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf, double radius, double clearance,
+                             size_t limit, double reference_radius, std::vector<double>* distances,
+                             const Box3* within) {
+  return holes_on_lattice(
+      particles, sdf, [&sdf](int i, int j, int k) { return static_cast<double>(sdf.at(i, j, k)); },
+      [&sdf](const Vec3& q) { return sample(sdf, q); }, radius, clearance, limit, reference_radius, distances,
+      within);
+}
+
+std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& lattice,
+                             const std::function<double(const Vec3&)>& signed_distance, double radius,
+                             double clearance, size_t limit, double reference_radius, std::vector<double>* distances,
+                             const Box3* within) {
+  return holes_on_lattice(
+      particles, lattice, [&](int i, int j, int k) { return signed_distance(lattice.point(i, j, k)); },
+      signed_distance, radius, clearance, limit, reference_radius, distances, within);
 }
 
 }  // namespace pfill
