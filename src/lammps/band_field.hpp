@@ -16,15 +16,18 @@
 // near the wall in and around its own sub-domain, not the field. The same
 // pass bounds the interpolant's slope.
 //
-// Or, from an ExactField (no flat grid anywhere: the LAMMPS engine's
-// default), each group of 4^3 bricks is looked at when a sphere first
-// reads one of them: a brick whose centre lies deeper than the band plus
-// its half diagonal is deep (the distance is 1-Lipschitz), the others get
-// the next slots, in the group's order, and their samples computed from
-// the mesh (the exact values the whole field holds near the wall). A rank
-// then computes and holds only the bricks its own spheres reach. The wall's offset
-// (EngineParams::wall_offset) is added to each sample as the kernels add
-// it (a float sum), so a moved wall needs no shifted copy either.
+// Or, from an ExactField (no flat grid anywhere: what `pfill fill
+// --engine lammps` uses), each group of 4^3 bricks is looked at when a
+// sphere first reads one of them: a brick whose centre lies deeper than
+// the band plus its half diagonal is deep (the distance is 1-Lipschitz),
+// the others get the next slots, in the group's order, and their samples
+// computed from the mesh (the exact values the whole field holds near the
+// wall), each sample of the group once. A rank then computes and holds
+// only the bricks its own spheres reach, wherever its sub-domain moves.
+//
+// The wall's offset (EngineParams::wall_offset) is added to each sample
+// as the kernels add it (a float sum), so a moved wall needs no shifted
+// copy either.
 #pragma once
 #ifdef PFILL_WITH_LAMMPS
 #include <cstdint>
