@@ -1,4 +1,4 @@
-// Fixtures the LAMMPS engine's tests share (test_lammps_engine.cpp, test_lammps_fire.cpp).
+// Fixtures the LAMMPS engine's tests share (test_lammps_engine.cpp, test_lammps_fire.cpp, test_lammps_wall.cpp).
 #pragma once
 #include <cstdint>
 #include <random>
@@ -8,6 +8,20 @@
 #include "pfill/grid.hpp"
 
 namespace pfill::test {
+
+/// Spheres of radius 0.05 with a dashpot and a damped, capped step: the
+/// engine tests' parameters (test_lammps_engine.cpp, test_lammps_wall.cpp).
+inline EngineParams small_params() {
+  EngineParams p;
+  p.radius = 0.05;
+  p.max_radius = p.radius * (1 + 1e-6);
+  p.restitution = 0.5;
+  p.wall_restitution = 0.5;
+  p.damping = 0.5;
+  p.dt = 0.01 * derive_constants(p).tau;
+  p.max_step_fraction = 0.1;
+  return p;
+}
 
 /// A ball of radius R at the origin as a signed distance grid.
 inline ScalarGrid ball_field(double R, double spacing) {

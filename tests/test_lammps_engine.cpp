@@ -31,17 +31,7 @@ using namespace pfill;
 
 namespace {
 
-EngineParams small_params() {
-  EngineParams p;
-  p.radius = 0.05;
-  p.max_radius = p.radius * (1 + 1e-6);
-  p.restitution = 0.5;
-  p.wall_restitution = 0.5;
-  p.damping = 0.5;
-  p.dt = 0.01 * derive_constants(p).tau;
-  p.max_step_fraction = 0.1;
-  return p;
-}
+using test::small_params;
 
 // Particles on a jittered lattice inside the ball, some overlapping, moving.
 std::vector<Particle> lattice(double R, double spacing, uint64_t seed) {

@@ -28,17 +28,7 @@ namespace {
 
 constexpr double kBall = 0.5;
 
-EngineParams wall_params() {
-  EngineParams p;
-  p.radius = 0.05;
-  p.max_radius = p.radius * (1 + 1e-6);
-  p.restitution = 0.5;
-  p.wall_restitution = 0.5;
-  p.damping = 0.5;
-  p.dt = 0.01 * derive_constants(p).tau;
-  p.max_step_fraction = 0.1;
-  return p;
-}
+using test::small_params;
 
 /// The field's layout for the ball mesh: exact everywhere, so the whole
 /// grid holds the values the bricks compute.
@@ -87,11 +77,10 @@ TEST_CASE("lammps wall: computed from the mesh, the steps of the reference engin
   for (const Particle& p : start) pushed += kBall - length(p.position) < p.radius;
   CHECK(pushed > 20);
 
-  ReferenceEngine ref(wall_params());
+  ReferenceEngine ref(small_params());
   ref.set_field(whole);
   ref.add_particles(start);
-  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(wall_params());
-  REQUIRE(lmp->takes_exact_field());
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(small_params());
   lmp->share_exact_field(exact);
   lmp->add_particles(start);
   ref.run_steps(40);
@@ -117,8 +106,8 @@ TEST_CASE("lammps wall: each rank computes only the bricks its spheres reach") {
   const ExactField exact(boundary, exact_everywhere());
   const uint64_t whole = static_cast<uint64_t>(exact.lattice().dims[0]) * exact.lattice().dims[1] *
                          exact.lattice().dims[2] * sizeof(float);
-  const uint64_t band = band_bytes(exact, 2 * wall_params().max_radius);
-  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(wall_params());
+  const uint64_t band = band_bytes(exact, 2 * small_params().max_radius);
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(small_params());
   lmp->share_exact_field(exact);
   CHECK(lmp->field_bytes() < whole / 32);  // the bricks' index (a word a brick), no brick before a sphere reads one
   lmp->add_particles(ball_lattice());

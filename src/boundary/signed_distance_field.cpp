@@ -301,7 +301,7 @@ ScalarGrid sdf_lattice(const Box3& box, const SdfOptions& options) {
   if (!(h > 0) || !std::isfinite(h))
     throw Error("signed distance field: the spacing must be a positive finite number (got " + std::to_string(h) + ")");
   const double margin = options.margin < 0 ? 3 * h : options.margin;
-  if (!std::isfinite(margin)) throw Error("signed distance field: the margin must be finite and the bands numbers");
+  if (!std::isfinite(margin)) throw Error("signed distance field: the margin must be a finite number");
 
   ScalarGrid grid;
   grid.spacing = h;
@@ -332,8 +332,7 @@ ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOption
   const double h = options.spacing;
   const double band = options.band < 0 ? 4 * h : options.band;
   const double outer_band = options.outer_band < 0 ? band : options.outer_band;
-  if (std::isnan(band) || std::isnan(outer_band))
-    throw Error("signed distance field: the margin must be finite and the bands numbers");
+  if (std::isnan(band) || std::isnan(outer_band)) throw Error("signed distance field: the bands must be numbers");
   grid.values.assign(static_cast<size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2], 0.0f);
 
   SdfStats local;

@@ -76,7 +76,6 @@ class LammpsEngine final : public ParticleEngine {
     box_on_field(field);
   }
   /// Each rank computes only the bricks near the wall its atoms reach (band_field.hpp).
-  bool takes_exact_field() const override { return true; }
   size_t field_bytes() const override { return step_.field_bytes(); }
   void share_exact_field(const ExactField& field) override {
     step_.set_field(field, params_.wall_offset, box_made_);

@@ -48,11 +48,9 @@ class ParticleEngine {
   /// LAMMPS engine: its bricks near the wall); 0 when it reads the
   /// caller's field in place.
   virtual size_t field_bytes() const { return 0; }
-  /// Whether the engine can take its wall as an ExactField (share_exact_field).
-  virtual bool takes_exact_field() const { return false; }
   /// The wall computed from the mesh where the engine's particles reach it
   /// (`field` must outlive the engine): no whole grid held. Engines that
-  /// cannot (takes_exact_field() false) throw pfill::Error.
+  /// cannot (all but the LAMMPS engine) throw pfill::Error.
   virtual void share_exact_field(const ExactField& field) {
     (void)field;
     throw Error(describe() + " needs the wall's field as a grid in memory (share_field)");
