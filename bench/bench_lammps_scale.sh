@@ -14,6 +14,8 @@
 #   /tmp/pfill-scale: a stopped run's memory is sampled by that name)
 #   LIMIT=SECONDS: each run's wall-time cap (timeout; default 3600)
 #   ENGINES="opencl lammps": which engines (default both)
+#   PARTS=1: LAMMPS runs write a file per rank (-o out.%r.csv), so that no
+#     rank gathers the whole result (the memory a rank needs at scale)
 set -uo pipefail
 n=${1:-100000}
 seed=${2:-1}
@@ -22,6 +24,8 @@ mesh=${4:-/work/shared/meshes/spot.obj}
 pfill=$(readlink -f "${5:-build/pfill}")
 limit=${LIMIT:-3600}
 engines=${ENGINES:-"opencl lammps"}
+lammps_out=out.csv
+[ "${PARTS:-0}" = 1 ] && lammps_out='out.%r.csv'
 [ -x "$pfill" ] || { echo "bench_lammps_scale: $pfill not found; build it (make -C build pfill)"; exit 1; }
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_mpi_yield_when_idle=1
 work=$(mktemp -d)
@@ -80,7 +84,7 @@ one() {
   else
     timeout "$limit" mpirun --oversubscribe -np "$np" bash -c \
       '/usr/bin/time -f "%e %M" -o "$0/time.$OMPI_COMM_WORLD_RANK" "$@"' "$d" \
-      "$pfill" fill "$mesh" -n "$n" --seed "$seed" -o "$d/out.csv" --report "$d/r.json" --engine lammps "$@" \
+      "$pfill" fill "$mesh" -n "$n" --seed "$seed" -o "$d/$lammps_out" --report "$d/r.json" --engine lammps "$@" \
       > "$d/stdout" 2> "$d/stderr"
   fi
   local rc=$?

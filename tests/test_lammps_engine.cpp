@@ -13,6 +13,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -24,7 +25,9 @@
 #include "pfill/error.hpp"
 #include "pfill/fill.hpp"
 #include "pfill/lammps.hpp"
+#include "pfill/boundary.hpp"
 #include "pfill/packing_metrics.hpp"
+#include "pfill/particle_share.hpp"
 #include "pfill/shapes.hpp"
 
 using namespace pfill;
@@ -236,9 +239,25 @@ TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {
   CHECK(r.metrics.contained_share == 1.0);
   CHECK(r.metrics.max_overlap <= o.max_overlap + 1e-9);
   // The OpenCL engine packs a sphere at -n 300 to 0.55-0.60 (about 290-310 spheres).
-  CHECK(r.particles.size() >= 250);
-  CHECK(r.particles.size() <= 340);
+  CHECK(r.metrics.count >= 250);
+  CHECK(r.metrics.count <= 340);
   CHECK(r.metrics.packing_fraction > 0.5);
+  // Issue 31: each rank ends with its own spheres, none with all; together
+  // they are the set the metrics, measured over the ranks, describe.
+  const std::shared_ptr<ProcessGroup> group = lammps_process_group();
+  const ParticleSet all = gather_particles(*group, r.particles, true);
+  CHECK(all.size() == r.metrics.count);
+  CHECK(std::set<uint64_t>(all.ids.begin(), all.ids.end()).size() == all.size());
+  CHECK(r.in_parts == (group->size() > 1));
+  if (group->size() > 1) CHECK(r.particles.size() < r.metrics.count);
+  MetricsOptions mo;
+  mo.holes = false;
+  const PackingMetrics whole = measure_packing(Boundary(make_icosphere(1.0, 3)), r.metrics.mesh_volume, all, mo);
+  CHECK(whole.packing_fraction == doctest::Approx(r.metrics.packing_fraction).epsilon(1e-12));
+  CHECK(whole.overlapping_pairs == r.metrics.overlapping_pairs);
+  CHECK(whole.max_overlap == r.metrics.max_overlap);
+  CHECK(whole.mean_coordination == doctest::Approx(r.metrics.mean_coordination).epsilon(1e-12));
+  CHECK(whole.max_penetration == r.metrics.max_penetration);
 }
 
 // Issue 31: the births' room test per rank. Each site is decided by the one

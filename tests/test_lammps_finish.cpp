@@ -18,6 +18,7 @@
 #include "pfill/engine/reference.hpp"
 #include "pfill/lammps.hpp"
 #include "pfill/packing_metrics.hpp"
+#include "pfill/particle_share.hpp"
 
 using namespace pfill;
 
@@ -121,7 +122,9 @@ TEST_CASE("lammps engine: the finish per sub-domain holds the bound, each rank d
   s.max_overlap = 0.001;
   s.first_id = start.size() + 1;
   FinishStats on_lammps, on_reference;
-  const ParticleSet out = finish_packing(lammps_engine_factory(), base_params(), field, start, s, on_lammps);
+  // (each rank returns its own spheres: the whole, gathered, is checked on every rank)
+  const ParticleSet out = gather_particles(
+      *lammps_process_group(), finish_packing(lammps_engine_factory(), base_params(), field, start, s, on_lammps), true);
   const ParticleSet ref = finish_packing([](const EngineParams& p) { return std::make_unique<ReferenceEngine>(p); },
                                          base_params(), field, start, s, on_reference);
   INFO("LAMMPS " << out.size() << " spheres (" << on_lammps.removed << " deleted, " << on_lammps.inserted
@@ -169,8 +172,11 @@ TEST_CASE("lammps engine: the finish takes the set split over the ranks, each id
   s.max_overlap = 0.001;
   s.first_id = start.size() + 1;
   FinishStats split_stats, whole_stats;
-  const ParticleSet split = finish_packing(lammps_engine_factory(), base_params(), field, mine, ids, s, split_stats);
-  const ParticleSet whole = finish_packing(lammps_engine_factory(), base_params(), field, start, s, whole_stats);
+  const std::shared_ptr<ProcessGroup> group = lammps_process_group();
+  const ParticleSet split =
+      gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, mine, ids, s, split_stats), true);
+  const ParticleSet whole =
+      gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, start, s, whole_stats), true);
   INFO("split " << split.size() << " (" << split_stats.removed << " deleted), whole " << whole.size() << " ("
                 << whole_stats.removed << " deleted)");
   CHECK(split.size() + split_stats.removed == start.size() + split_stats.inserted);

@@ -20,6 +20,7 @@
 ///   points, through viridis (0 = at the surface, dark purple; 1 = deepest,
 ///   yellow).
 #pragma once
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -69,12 +70,17 @@ struct ColourTransfer {
 /// batched and in parallel). Surface on a mesh without surface colour falls
 /// back to Depth and says so in `note`. Throws pfill::Error naming the mesh
 /// when a material has a texture but the mesh has no UVs.
+/// `deepest_of_all` (a set held in parts over processes): from the deepest
+/// of these points to the deepest of every process's, which Depth's scale
+/// then follows (collective); empty: these points' own.
 ColourTransfer transfer_colours(const Boundary& boundary, const std::vector<Vec3>& points,
-                                const ColourOptions& options);
+                                const ColourOptions& options,
+                                const std::function<double(double)>& deepest_of_all = {});
 
 /// transfer_colours on the particles' centres, stored in particles.colours
 /// (cleared for None). Returns the note (empty when applied as asked).
-std::string colour_particles(const Boundary& boundary, ParticleSet& particles, const ColourOptions& options);
+std::string colour_particles(const Boundary& boundary, ParticleSet& particles, const ColourOptions& options,
+                             const std::function<double(double)>& deepest_of_all = {});
 
 // ---- The pieces, public for tests and for other colouring code ----
 

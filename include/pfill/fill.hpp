@@ -178,7 +178,12 @@ struct PassStats {
 };
 
 struct FillResult {
+  /// The spheres. On the LAMMPS engine at P > 1 MPI ranks, each rank's
+  /// own (`in_parts`): those of its sub-domain, no rank all of them
+  /// (gather_particles, particle_share.hpp, brings them to one); the
+  /// metrics and counts below are of the whole on every rank.
   ParticleSet particles;
+  bool in_parts = false;  ///< `particles` is this process's part of the result, not all of it
   PackingMetrics metrics;
   double radius = 0;            ///< equal spheres: their radius; unequal: the smallest the distribution draws
   /// Unequal spheres: the distribution in mesh units (scaled to the count),

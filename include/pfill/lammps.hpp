@@ -36,13 +36,11 @@ void lammps_mpi_abort(int code);
 /// removals and reads are collective.
 std::unique_ptr<ParticleEngine> make_lammps_engine(const EngineParams& params);
 
-/// Which of `positions` this rank writes when every rank writes its own
-/// part of a fill's output (`-o out.%r.csv`): those whose centre lies in
-/// this rank's LAMMPS sub-domain as the last engine left it (half-open
-/// boxes; a centre in none goes to the nearest box), so every particle is
-/// in exactly one part. Collective (every rank passes the same positions).
-/// One process, no engine run yet, or no LAMMPS: all of them.
-std::vector<size_t> lammps_rank_share(const std::vector<Vec3>& positions);
+/// The MPI ranks as a ProcessGroup (MPI_COMM_WORLD), for the command
+/// line's output after a fill: a gather to rank 0, or nothing when every
+/// rank writes its own part. One process, MPI not started, or no LAMMPS:
+/// the group of one.
+std::shared_ptr<ProcessGroup> lammps_process_group();
 
 /// FillOptions::engine for the LAMMPS engine; throws pfill::Error ("this
 /// pfill was built without LAMMPS; ...") when it is not built in.

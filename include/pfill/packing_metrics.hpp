@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "pfill/boundary.hpp"
+#include "pfill/particle_share.hpp"
 #include "pfill/particles.hpp"
 
 namespace pfill {
@@ -57,11 +58,19 @@ Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double
 /// more apart) as wide within a grid step of r / 2, widest first: one
 /// search for the holes a fill may fill before it must look again.
 std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& particles, double radius);
+/// The same over a packing held in parts: each process searches its own
+/// region, with a halo of the others' spheres; every process gets the
+/// holes of all, widest first, each a radius or more from a wider one.
+/// Collective; one process: largest_holes.
+std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& own, double radius,
+                                const ParticleShare& share);
 
 /// Measures `particles` in the mesh of `boundary` (whose volume is given,
-/// since open meshes need the estimate from diagnose()). Parallel.
+/// since open meshes need the estimate from diagnose()). Parallel. Held in
+/// parts (`share` over several processes): `particles` are this process's
+/// own, and every process gets the measures of the whole. Collective.
 PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, const ParticleSet& particles,
-                               const MetricsOptions& options = {});
+                               const MetricsOptions& options = {}, const ParticleShare& share = {});
 
 /// The pairs (i < j) whose spheres overlap, with overlap (r_i + r_j - d) as a
 /// fraction of the smaller radius. Host hash grid, O(n).
@@ -79,8 +88,11 @@ struct ContainmentRepair {
 /// Every sphere crossing the surface by more than `tolerance` r is moved
 /// along the surface normal to lie exactly inside; if it then overlaps a
 /// neighbour by more than `max_overlap` r, or its centre is still not deep
-/// enough (a part thinner than the sphere), it is removed. Exact distances.
+/// enough (a part thinner than the sphere), it is removed. Of two moved
+/// spheres over the bound, the one that was further out gives way. Exact
+/// distances. Held in parts: this process's own spheres, the counts over
+/// all (collective).
 ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& particles, double tolerance,
-                                     double max_overlap);
+                                     double max_overlap, const ParticleShare& share = {});
 
 }  // namespace pfill

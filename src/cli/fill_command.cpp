@@ -29,6 +29,7 @@
 #include "pfill/fill_report.hpp"
 #include "pfill/fill_settings.hpp"
 #include "pfill/lammps.hpp"
+#include "pfill/particle_share.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/particle_io.hpp"
 #include "pfill/render.hpp"
@@ -163,18 +164,13 @@ void parse_settings(FillArgs& a, const CLI::App& cmd) {
   }
 }
 
-/// `-o out.%r.csv`: this rank's part of the particles (those in its LAMMPS
-/// sub-domain, lammps_rank_share), written to the path with %r replaced by
-/// the rank; `pfill join` puts the parts back together.
-void write_rank_part(const ParticleSet& all, std::string path, int rank, const ParticleWriteOptions& wo) {
-  ParticleSet part;
-  for (size_t i : lammps_rank_share(all.positions)) {
-    part.positions.push_back(all.positions[i]);
-    part.radii.push_back(all.radii[i]);
-    if (all.has_colours()) part.colours.push_back(all.colours[i]);
-    if (all.has_velocities()) part.velocities.push_back(all.velocities[i]);
-    part.ids.push_back(all.id(i));
-  }
+/// `-o out.%r.csv`: this rank's part of the particles (its own: those of
+/// its LAMMPS sub-domain), written to the path with %r replaced by the
+/// rank; `pfill join` puts the parts back together.
+void write_rank_part(const ParticleSet& own, std::string path, int rank, const ParticleWriteOptions& wo) {
+  ParticleSet part = own;
+  if (!part.has_ids())
+    for (size_t i = 0; i < own.size(); ++i) part.ids.push_back(own.id(i));
   for (size_t at; (at = path.find("%r")) != std::string::npos;) path.replace(at, 2, std::to_string(rank));
   write_particles(part, path, wo);
 }
@@ -215,6 +211,8 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   if (parts && (shell || a.contacts.wanted()))
     usage_error("-o with %r (a file per MPI rank) takes neither --shell nor contacts (--contacts, --pairs): "
                 "give one output file");
+  // Rank 0 needs the whole set after a fill across ranks: to write one file, a preview or the last frame.
+  const bool whole_on_first = !parts || !a.preview.empty() || !a.frames.empty();
   // --engine lammps: every MPI rank runs the fill (SPMD); rank 0 alone prints and writes.
   bool writer = true;
   int rank = 0;
@@ -261,7 +259,12 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
-  if (parts) write_rank_part(r.particles, a.output, rank, wo);
+  // Each rank holds its own spheres (FillResult::particles): it writes them
+  // as its part, or they go to rank 0, which writes the whole (so does a
+  // preview, or the last frame, need).
+  // (a result every rank holds whole, as unequal spheres' on LAMMPS: rank 0's part is all of it)
+  if (parts) write_rank_part(r.in_parts || writer ? r.particles : ParticleSet(), a.output, rank, wo);
+  if (r.in_parts && whole_on_first) r.particles = gather_particles(*lammps_process_group(), r.particles);
   if (!writer) return;
   if (shell) {
     shell->join(r);  // r.particles: the inner spheres, then the shell's

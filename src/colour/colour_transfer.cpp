@@ -1,6 +1,7 @@
 // Colour transfer from the surface to the particles: closest points in
 // batches (Boundary::closest, parallel), then the colour of each point in
 // parallel.
+#include <functional>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -37,19 +38,21 @@ void colour_by_surface(const Boundary& boundary, const std::vector<Vec3>& points
   });
 }
 
-void colour_by_depth(const Boundary& boundary, const std::vector<Vec3>& points, std::vector<Rgb8>& colours) {
+void colour_by_depth(const Boundary& boundary, const std::vector<Vec3>& points, std::vector<Rgb8>& colours,
+                     const std::function<double(double)>& deepest_of_all) {
   std::vector<double> depth(points.size());
   for_each_batch(points, boundary, [&](size_t offset, const std::vector<ClosestPoint>& closest) {
     for (size_t i = 0; i < closest.size(); ++i) depth[offset + i] = closest[i].distance;
   });
-  const double deepest = depth.empty() ? 0.0 : *std::max_element(depth.begin(), depth.end());
+  double deepest = depth.empty() ? 0.0 : *std::max_element(depth.begin(), depth.end());
+  if (deepest_of_all) deepest = deepest_of_all(deepest);
   for (size_t i = 0; i < points.size(); ++i) colours[i] = depth_colour(deepest > 0 ? depth[i] / deepest : 0.0);
 }
 
 }  // namespace
 
 ColourTransfer transfer_colours(const Boundary& boundary, const std::vector<Vec3>& points,
-                                const ColourOptions& options) {
+                                const ColourOptions& options, const std::function<double(double)>& deepest_of_all) {
   ColourTransfer out;
   out.applied = options.mode;
   if (options.mode == ColourMode::Surface && !has_surface_colour(boundary.mesh())) {
@@ -68,14 +71,15 @@ ColourTransfer transfer_colours(const Boundary& boundary, const std::vector<Vec3
       break;
     case ColourMode::Depth:
       out.colours.resize(points.size());
-      colour_by_depth(boundary, points, out.colours);
+      colour_by_depth(boundary, points, out.colours, deepest_of_all);
       break;
   }
   return out;
 }
 
-std::string colour_particles(const Boundary& boundary, ParticleSet& particles, const ColourOptions& options) {
-  ColourTransfer result = transfer_colours(boundary, particles.positions, options);
+std::string colour_particles(const Boundary& boundary, ParticleSet& particles, const ColourOptions& options,
+                             const std::function<double(double)>& deepest_of_all) {
+  ColourTransfer result = transfer_colours(boundary, particles.positions, options, deepest_of_all);
   particles.colours = std::move(result.colours);
   return result.note;
 }

@@ -33,6 +33,7 @@
 #include "pfill/error.hpp"
 #include "pfill/exact_field.hpp"
 #include "pfill/mesh_diagnostics.hpp"
+#include "pfill/particle_share.hpp"
 #include "pfill/peak_memory.hpp"
 #include "pfill/sdf.hpp"
 #include "fill/short_number.hpp"
@@ -94,7 +95,7 @@ class FillRun {
                                             : std::string();
     if (!short_front.empty()) what += (what.empty() ? "" : ", and even so ") + short_front;
     return what + ": the other classes were held to their shares of them, " +
-           std::to_string(result_.particles.size()) + " spheres at a packing of " +
+           std::to_string(result_.metrics.count) + " spheres at a packing of " +
            short_number(result_.metrics.packing_fraction);
   }
 
@@ -231,6 +232,8 @@ class FillRun {
       for (const Particle& p : ps) ids.push_back(p.id);
       engine_->gather_over_processes(ids);
     }
+    // (the verify reaches the other processes through it once the engines are gone)
+    std::shared_ptr<ProcessGroup> group = engine_->process_group();
     engine_.reset();  // the finish holds the particles from here on
     reporter_.report(ids.empty() ? ps.size() : ids.size(), 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
     FinishStats stats;
@@ -250,6 +253,12 @@ class FillRun {
     result_.finish_near_rounds = stats.near_rounds;
     result_.finish_largest_view = stats.largest_view;
     result_.holes_filled = stats.inserted;
+    if (!stats.regions.empty()) {  // the result in parts: this process's own spheres (particle_share.hpp)
+      share_.group = std::move(group);
+      share_.regions = std::move(stats.regions);
+      share_.region = stats.region;
+      result_.in_parts = true;
+    }
     next_id_ = stats.next_id;
     result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, t.seconds()});
   }
@@ -286,8 +295,9 @@ class FillRun {
   void verify() {
     const Stopwatch t;
     reporter_.enter(FillPhase::Verify);
-    reporter_.report(particles_.size(), 0, 0, fill_steps_ + relax_steps_, relax_steps_);
-    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, size_caps_, o_, std::move(particles_),
+    const size_t count = static_cast<size_t>(share_.group->sum(static_cast<double>(particles_.size())));
+    reporter_.report(count, 0, 0, fill_steps_ + relax_steps_, relax_steps_);
+    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, size_caps_, o_, std::move(particles_), share_,
                 next_id_, result_);
     result_.verify_seconds = t.seconds();
     result_.seconds = reporter_.elapsed();
@@ -313,7 +323,8 @@ class FillRun {
   std::unique_ptr<Device> device_;
   EngineParams params_;
   std::unique_ptr<ParticleEngine> engine_;
-  ParticleSet particles_;
+  ParticleSet particles_;  ///< after the finish: this process's own spheres (one process: all)
+  ParticleShare share_;     ///< where the other processes' lie (one process: nowhere)
   uint64_t next_id_ = 1;
   uint64_t relax_steps_ = 0;  ///< the finish's steps
   uint64_t fill_steps_ = 0;   ///< engine steps of passes 1 to the settle, kept once the engine is gone

@@ -5,6 +5,7 @@
 
 #include "fill/size_deficit.hpp"
 #include "pfill/colour.hpp"
+#include "pfill/error.hpp"
 #include "pfill/packing_metrics.hpp"
 
 namespace pfill {
@@ -21,13 +22,19 @@ constexpr int kMostExactHoles = 32;
 /// short of its share that fits; none: the distribution comes first): every
 /// distinct hole one search found that still fits, then a new search, as a
 /// search at the smallest radius costs many times an equal fill's. Returns
-/// the widest hole left.
+/// the widest hole left. Held in parts: every process walks the same holes
+/// (of all processes) alike, and the one whose region holds a hole takes
+/// its sphere.
 Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<SizeDeficit>& deficit,
-                      const FillOptions& o, ParticleSet& particles, uint64_t& next_id, FillResult& result) {
+                      const FillOptions& o, const ParticleShare& share, ParticleSet& particles, uint64_t& next_id,
+                      FillResult& result) {
+  if (deficit && !share.complete()) throw Error("unequal spheres held in parts: the exact check needs them whole");
   std::mt19937_64 rng(o.seed);
-  std::vector<Hole> holes = largest_holes(boundary, particles, radius);
+  const bool velocities = share.group->max(particles.has_velocities() ? 1.0 : 0.0) > 0;
+  std::vector<Hole> holes = largest_holes(boundary, particles, radius, share);
   int filled = 0;
   while (o.hole_rounds > 0 && filled < kMostExactHoles) {
+    std::vector<Vec3> placed;  // this round's spheres, on every process (equal radii: `radius`; else in `particles`)
     const size_t before = particles.size();
     for (size_t k = 0; k < (deficit ? holes.size() : 1) && filled < kMostExactHoles; ++k) {
       double gap = holes[k].gap_over_r * radius;  // (less any sphere this round put near it)
@@ -41,15 +48,18 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
         r = deficit->take_within(std::min(gap, depth), rng);
         if (r == 0) continue;
       }
-      particles.positions.push_back(holes[k].centre);
-      particles.radii.push_back(r);
-      particles.ids.push_back(next_id++);
-      if (particles.has_velocities()) particles.velocities.push_back({});
+      placed.push_back(holes[k].centre);
+      const uint64_t id = next_id++;
       ++result.holes_filled;
       ++filled;
+      if (!share.owns(holes[k].centre)) continue;
+      particles.positions.push_back(holes[k].centre);
+      particles.radii.push_back(r);
+      particles.ids.push_back(id);
+      if (velocities) particles.velocities.push_back({});
     }
-    if (particles.size() == before) break;
-    holes = largest_holes(boundary, particles, radius);
+    if (placed.empty()) break;
+    holes = largest_holes(boundary, particles, radius, share);
   }
   return holes.front();
 }
@@ -58,25 +68,29 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
 
 void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius,
                  const std::optional<RadiusDistribution>& sizes, const std::vector<size_t>& size_caps,
-                 const FillOptions& o, ParticleSet particles, uint64_t& next_id, FillResult& result) {
-  result.containment = repair_containment(boundary, particles, o.containment_tolerance, o.max_overlap);
+                 const FillOptions& o, ParticleSet particles, const ParticleShare& share, uint64_t& next_id,
+                 FillResult& result) {
+  result.containment = repair_containment(boundary, particles, o.containment_tolerance, o.max_overlap, share);
   std::optional<SizeDeficit> deficit;
   if (sizes) {
     deficit.emplace(*sizes);
     deficit->set_caps(size_caps);
   }
-  const Hole h = fill_exact_holes(boundary, radius, deficit, o, particles, next_id, result);
+  const Hole h = fill_exact_holes(boundary, radius, deficit, o, share, particles, next_id, result);
   MetricsOptions mo;
   mo.containment_tolerance = o.containment_tolerance;
   mo.holes = false;  // measured just now
-  result.metrics = measure_packing(boundary, volume, particles, mo);
+  result.metrics = measure_packing(boundary, volume, particles, mo, share);
   result.metrics.largest_hole = h.gap_over_r;
   if (sizes) {
     result.radii = sizes;
     result.radii_fit = compare_distribution(*sizes, particles.radii);
   }
   const ColourOptions colour = o.colour ? *o.colour : ColourOptions{default_colour_mode(mesh), {}};
-  const std::string note = colour_particles(boundary, particles, colour);
+  // (the depth colours' scale: the deepest sphere of all, where each process holds its own)
+  std::function<double(double)> deepest_of_all;
+  if (!share.complete()) deepest_of_all = [&share](double d) { return share.group->max(d); };
+  const std::string note = colour_particles(boundary, particles, colour, deepest_of_all);
   if (!note.empty()) result.warnings.push_back(note);
   result.particles = std::move(particles);
 }

@@ -7,6 +7,7 @@
 
 #include "pfill/boundary.hpp"
 #include "pfill/fill.hpp"
+#include "pfill/particle_share.hpp"
 
 namespace pfill {
 
@@ -14,13 +15,17 @@ namespace pfill {
 /// `boundary`, enclosing `volume`), fills the holes a sphere still fits in,
 /// measures and colours them, and moves them into `result` (particles,
 /// metrics, containment, holes_filled, warnings). `next_id` labels the
-/// spheres it inserts.
+/// spheres it inserts. Held in parts (`share` over several processes; the
+/// LAMMPS engine at P > 1 ranks): `particles` are this process's own, and
+/// so are `result.particles`; the metrics and counts are of the whole.
+/// Collective.
 /// Unequal spheres (`sizes`, mesh units; `radius` its smallest): holes take
 /// a sphere of a class short of its share, and the result says how the
 /// radii follow the distribution (FillResult::radii_fit); `size_caps`:
 /// each class's most spheres (SizeDeficit::set_caps; empty: none).
 void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, double radius,
                  const std::optional<RadiusDistribution>& sizes, const std::vector<size_t>& size_caps,
-                 const FillOptions& o, ParticleSet particles, uint64_t& next_id, FillResult& result);
+                 const FillOptions& o, ParticleSet particles, const ParticleShare& share, uint64_t& next_id,
+                 FillResult& result);
 
 }  // namespace pfill

@@ -262,7 +262,7 @@ class Finisher {
   }
 
   /// The same per sub-domain (equal spheres): each process's fits, apart
-  /// from those across its borders, onto the engine; then every sphere.
+  /// from those across its borders, onto the engine; then its own spheres.
   ParticleSet add_fits_per_process() {
     look();
     const double clearance = s_.fit_clearance * s_.radius;
@@ -276,7 +276,12 @@ class Finisher {
     for (size_t k = 0; k < fits.size(); ++k) newcomers[k].position = fits[k], newcomers[k].radius = engine_radius_;
     add_newcomers(newcomers);
     view_ = FinishView();
-    return current();
+    // The result stays in parts: this rank's own spheres, and where each rank's lie.
+    LocalView mine = engine_->local_view(0);
+    mine.particles.resize(mine.own);
+    stats_.regions = std::move(mine.regions);
+    stats_.region = mine.region;
+    return at_true_radii(mine.particles, s_.radius, shrink_, sizes_.has_value());
   }
 
   /// Unequal spheres held to caps (FinishSettings::size_caps), every class

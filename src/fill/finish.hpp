@@ -97,6 +97,11 @@ struct FinishStats {
   /// The most spheres one process looked at in a round (its own and its
   /// halo; one process: every sphere). Issue 31: under the count at P > 1.
   size_t largest_view = 0;
+  /// Where the result lies when each process returns its own spheres (the
+  /// LAMMPS engine at P > 1): every process's region, in process order, and
+  /// this one's; empty: one process, the result is every sphere.
+  std::vector<Box3> regions;
+  int region = 0;
 };
 
 /// Relaxes `particles` on a purely repulsive engine (FIRE, or damped) whose contact

@@ -16,6 +16,7 @@
 #include "fill/hole_climb.hpp"
 #include "pfill/error.hpp"
 #include "pfill/packing_metrics.hpp"
+#include "pfill/particle_share.hpp"
 
 namespace pfill {
 namespace {
@@ -53,13 +54,19 @@ std::vector<SizeLevel> size_levels(const ParticleSet& particles, double radius) 
 
 class HoleSearch {
  public:
-  HoleSearch(const Boundary& boundary, const ParticleSet& particles, double radius)
+  /// `within`: grid points only in this box (a process's region; null: everywhere).
+  HoleSearch(const Boundary& boundary, const ParticleSet& particles, double radius, const Box3* within)
       : radius_(radius), h_(0.5 * radius), levels_(size_levels(particles, radius)) {
     for (const SizeLevel& level : levels_) reach_ = std::max(reach_, level.reach);
     Box3 box;
     for (const Vec3& c : particles.positions) box.add(c);
     lo_ = box.lo - Vec3(reach_, reach_, reach_);
-    for (int a = 0; a < 3; ++a) n_[a] = static_cast<int>(std::ceil((box.hi[a] - box.lo[a] + 2 * reach_) / h_)) + 1;
+    Vec3 span = box.hi - box.lo + Vec3(2 * reach_, 2 * reach_, 2 * reach_);
+    if (within) {
+      lo_ = max(lo_, within->lo);
+      span = min(box.hi + Vec3(reach_, reach_, reach_), within->hi) - lo_;
+    }
+    for (int a = 0; a < 3; ++a) n_[a] = std::max(1, static_cast<int>(std::ceil(span[a] / h_)) + 1);
     if (static_cast<uint64_t>(std::max({n_[0], n_[1], n_[2]})) > kAxis)
       throw Error("largest hole: the packing spans more than 2^21 grid points of r / 2 along an axis");
     depth_ = std::make_unique<DepthTest>(boundary, radius, lo_, h_);
@@ -269,12 +276,43 @@ class HoleSearch {
 
 Hole largest_hole(const Boundary& boundary, const ParticleSet& particles, double radius) {
   if (particles.size() == 0 || !(radius > 0)) return {};
-  return HoleSearch(boundary, particles, radius).run();
+  return HoleSearch(boundary, particles, radius, nullptr).run();
 }
 
 std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& particles, double radius) {
   if (particles.size() == 0 || !(radius > 0)) return {Hole{}};
-  return HoleSearch(boundary, particles, radius).run_all();
+  return HoleSearch(boundary, particles, radius, nullptr).run_all();
+}
+
+std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& own, double radius,
+                                const ParticleShare& share) {
+  if (share.complete()) return largest_holes(boundary, own, radius);
+  // The halo: every sphere a gap in the region reads (its level's reach,
+  // 2 r + its radius), and as far again for the climbs out of it.
+  double largest = 0;
+  for (double r : own.radii) largest = std::max(largest, r);
+  const ParticleSet halo = halo_of(share, own, 2 * (2 * radius + share.group->max(largest)));
+  ParticleSet view = own;
+  view.positions.insert(view.positions.end(), halo.positions.begin(), halo.positions.end());
+  view.radii.insert(view.radii.end(), halo.radii.begin(), halo.radii.end());
+  std::vector<Hole> mine;
+  if (view.size() > 0 && radius > 0) mine = HoleSearch(boundary, view, radius, share.mine()).run_all();
+  if (!mine.empty() && mine.front().gap_over_r <= 0) mine.clear();  // (no point of the region was deep enough)
+  std::vector<Hole> all = from_bytes<Hole>([&] {
+    Bytes b;
+    to_bytes(mine, b);
+    return share.group->all_gather(b);
+  }());
+  // Widest first (ties: in process order), each a radius from any wider.
+  std::stable_sort(all.begin(), all.end(), [](const Hole& a, const Hole& b) { return a.gap_over_r > b.gap_over_r; });
+  std::vector<Hole> out;
+  for (const Hole& h : all) {
+    bool near = false;
+    for (const Hole& o : out) near = near || length(o.centre - h.centre) < radius;
+    if (!near) out.push_back(h);
+  }
+  if (out.empty()) out.push_back(Hole{});
+  return out;
 }
 
 }  // namespace pfill

@@ -205,6 +205,7 @@ class LammpsEngine final : public ParticleEngine {
   void gather_over_processes(std::vector<uint64_t>& values) override {
     if (lmp_->ranks() > 1) values = lmp_->gather(values);
   }
+  std::shared_ptr<ProcessGroup> process_group() const override { return lammps_process_group(); }
   /// FIRE (fire_minimiser.hpp): afresh at the next step, on every rank alike.
   void restart_minimiser() override {
     flush();
@@ -261,7 +262,6 @@ class LammpsEngine final : public ParticleEngine {
       pending_ -= k;
       dirty_ = false;
     }
-    lammps_engine::last_subdomain() = lmp_->subdomain();
   }
 
   static bool finite(const Particle& p) { return is_finite(p.position) && is_finite(p.velocity); }

@@ -29,11 +29,6 @@ void ensure_mpi() {
   std::atexit(finalize_mpi);
 }
 
-SubDomain& last_subdomain() {
-  static SubDomain last;
-  return last;
-}
-
 SubDomain LammpsSession::subdomain() const {
   SubDomain d;
   const double* lo = static_cast<const double*>(lammps_extract_global(lmp_, "sublo"));

@@ -29,10 +29,6 @@ struct SubDomain {
   bool set = false;  ///< false until an engine ran
 };
 
-/// This rank's sub-domain as the last engine's last `run` left it, in this
-/// process: the output's parts per rank follow it (lammps_rank_share).
-SubDomain& last_subdomain();
-
 /// v with all 17 digits, for a LAMMPS command.
 std::string num(double v);
 

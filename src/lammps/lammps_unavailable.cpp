@@ -14,11 +14,7 @@ const char* kNoLammps =
 bool lammps_available() { return false; }
 MpiWorld lammps_mpi_start() { return {}; }
 void lammps_mpi_abort(int) {}
-std::vector<size_t> lammps_rank_share(const std::vector<Vec3>& positions) {
-  std::vector<size_t> all(positions.size());
-  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  return all;
-}
+std::shared_ptr<ProcessGroup> lammps_process_group() { return std::make_shared<ProcessGroup>(); }
 std::unique_ptr<ParticleEngine> make_lammps_engine(const EngineParams&) { throw Error(kNoLammps); }
 std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> lammps_engine_factory() { throw Error(kNoLammps); }
 

@@ -5,11 +5,13 @@
 /// on either (FillOptions::engine); the reference needs no OpenCL device.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "pfill/engine/birth_view.hpp"
 #include "pfill/engine/params.hpp"
+#include "pfill/engine/process_group.hpp"
 #include "pfill/error.hpp"
 #include "pfill/engine/step_record.hpp"
 #include "pfill/grid.hpp"
@@ -107,6 +109,10 @@ class ParticleEngine {
   /// `values` on every process (collective; each may pass a different
   /// count). One process: unchanged.
   virtual void gather_over_processes(std::vector<uint64_t>& values) { (void)values; }
+  /// The processes that share this engine, for what runs after it is gone
+  /// (the fill's exact check, its metrics and output; process_group.hpp).
+  /// One process: the group of one.
+  virtual std::shared_ptr<ProcessGroup> process_group() const { return std::make_shared<ProcessGroup>(); }
   virtual size_t size() const = 0;          ///< particle count
   virtual uint64_t steps_done() const = 0;  ///< steps run (or enqueued)
 
