@@ -2,7 +2,7 @@
 # A small fill on the LAMMPS engine under mpirun -np NP (ctest: mpiNP.fill_lammps):
 # every sphere inside, overlaps within the 0.1% bound, the count near what the
 # OpenCL engine gives (a sphere at -n 300: about 300), one output file
-# written by rank 0; the same with births in waves; at more than one rank, the same fill's output written
+# written by rank 0; the same with births in waves, and with unequal spheres; at more than one rank, the same fill's output written
 # per rank and joined back; and a bad option refused in one line before
 # LAMMPS starts on any rank.
 # Usage: mpi_fill.sh PFILL MPIRUN NP
@@ -49,6 +49,28 @@ assert m["contained_share"] == 1.0, "a sphere pokes out"
 assert m["max_overlap"] <= 0.001 + 1e-9, "an overlap over the bound"
 assert 240 <= m["particles"] <= 345, "count far from the OpenCL engine's"
 PY
+
+# Unequal spheres (--radii, 2026-12-06): hard by each pair's smaller radius,
+# inside, the count near the OpenCL engine's (495 at seed 1; LAMMPS 493 at
+# -np 1 and 2); they take the whole set on every rank, so with %r rank 0's
+# part holds them all and the join gives the rows of the single file.
+run "$pfill" fill --builtin sphere -n 500 --radii discrete:1:0.5,2:0.5 --seed 1 --engine lammps -q \
+  -o "$tmp/mix.csv" --report "$tmp/m.json" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+python3 - "$tmp/m.json" <<'PY'
+import json, sys
+m = json.load(open(sys.argv[1]))["metrics"]
+print("radii 1:2: particles", m["particles"], "packing", round(m["packing_fraction"], 4), "largest overlap", m["max_overlap"])
+assert m["contained_share"] == 1.0, "a sphere pokes out"
+assert m["max_overlap"] <= 0.001 + 1e-9, "an overlap over the bound"
+assert 470 <= m["particles"] <= 520, "count far from the OpenCL engine's"
+PY
+if [ "$np" -gt 1 ]; then
+  run "$pfill" fill --builtin sphere -n 500 --radii discrete:1:0.5,2:0.5 --seed 1 --engine lammps -q \
+    -o "$tmp/mixpart.%r.csv" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+  "$pfill" join -o "$tmp/mixjoined.csv" "$tmp"/mixpart.*.csv
+  cmp -s <(tail -n +2 "$tmp/mix.csv" | sort) <(tail -n +2 "$tmp/mixjoined.csv" | sort) ||
+    { echo "unequal spheres: the joined parts differ from rank 0's mix.csv"; exit 1; }
+fi
 
 # More than one rank: the output per rank (-o part.%r.csv, docs/lammps_engine.md
 # "Output per rank") from the same options: each rank writes a part, none of

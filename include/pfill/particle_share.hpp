@@ -38,6 +38,10 @@ struct ParticleShare {
 ParticleSet halo_of(const ParticleShare& share, const ParticleSet& own, double reach,
                     const std::vector<double>& own_extra = {}, size_t width = 0, std::vector<double>* extra = nullptr);
 
+/// `own` then `halo`: centres, radii and ids (own's ids as ParticleSet::id
+/// gives them), what a process's searches over its region look at.
+ParticleSet own_and_halo(const ParticleSet& own, const ParticleSet& halo);
+
 /// Every process's `own`, whole, in the order of the ids: on the first
 /// process only (the others get an empty set), or with `everywhere` on
 /// every process. Colours and velocities go along where the sets have

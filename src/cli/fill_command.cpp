@@ -217,8 +217,6 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   bool writer = true;
   int rank = 0;
   if (a.engine == "lammps") {
-    // (the LAMMPS engine runs every pair at one scale: equal spheres only, for now)
-    if (a.options.radii) usage_error("--engine lammps takes equal spheres only: leave out --radii");
     a.options.engine = lammps_engine_factory();  // one line when this pfill has no LAMMPS
     a.options.finish_on_engine = true;
     a.options.wall_from_mesh = true;  // each rank computes only the wall its spheres reach

@@ -291,10 +291,7 @@ std::vector<Hole> largest_holes(const Boundary& boundary, const ParticleSet& own
   // 2 r + its radius), and as far again for the climbs out of it.
   double largest = 0;
   for (double r : own.radii) largest = std::max(largest, r);
-  const ParticleSet halo = halo_of(share, own, 2 * (2 * radius + share.group->max(largest)));
-  ParticleSet view = own;
-  view.positions.insert(view.positions.end(), halo.positions.begin(), halo.positions.end());
-  view.radii.insert(view.radii.end(), halo.radii.begin(), halo.radii.end());
+  const ParticleSet view = own_and_halo(own, halo_of(share, own, 2 * (2 * radius + share.group->max(largest))));
   std::vector<Hole> mine;
   if (view.size() > 0 && radius > 0) mine = HoleSearch(boundary, view, radius, share.mine()).run_all();
   if (!mine.empty() && mine.front().gap_over_r <= 0) mine.clear();  // (no point of the region was deep enough)

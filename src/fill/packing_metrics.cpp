@@ -33,15 +33,7 @@ double max_radius(const ParticleSet& p) {
 template <class F>
 void for_pairs_counted_here(const ParticleSet& own, const ParticleShare& share, double reach, F f) {
   ParticleSet joined;
-  if (!share.complete()) {
-    const ParticleSet halo = halo_of(share, own, reach);
-    joined = own;
-    joined.positions.insert(joined.positions.end(), halo.positions.begin(), halo.positions.end());
-    joined.radii.insert(joined.radii.end(), halo.radii.begin(), halo.radii.end());
-    joined.ids.resize(own.size());
-    for (size_t i = 0; i < own.size(); ++i) joined.ids[i] = own.id(i);
-    joined.ids.insert(joined.ids.end(), halo.ids.begin(), halo.ids.end());
-  }
+  if (!share.complete()) joined = own_and_halo(own, halo_of(share, own, reach));
   const ParticleSet& view = share.complete() ? own : joined;
   if (view.size() == 0) return;
   const CentreGrid grid(view.positions, reach);
@@ -187,13 +179,8 @@ ContainmentRepair repair_containment(const Boundary& boundary, ParticleSet& part
   // higher id gives way). Decided by each sphere's process alone, so the
   // same on either side of a border: a halo of the others' as moved.
   std::vector<double> halo_state;
-  ParticleSet view = particles;
-  view.ids.resize(particles.size());
-  for (size_t i = 0; i < particles.size(); ++i) view.ids[i] = particles.id(i);
-  const ParticleSet halo = halo_of(share, particles, 2 * group.max(max_radius(particles)), state, kWidth, &halo_state);
-  view.positions.insert(view.positions.end(), halo.positions.begin(), halo.positions.end());
-  view.radii.insert(view.radii.end(), halo.radii.begin(), halo.radii.end());
-  view.ids.insert(view.ids.end(), halo.ids.begin(), halo.ids.end());
+  const ParticleSet view = own_and_halo(
+      particles, halo_of(share, particles, 2 * group.max(max_radius(particles)), state, kWidth, &halo_state));
   state.insert(state.end(), halo_state.begin(), halo_state.end());
   auto at = [&](size_t i, size_t what) { return state[kWidth * i + what]; };
   auto gives_way = [&](size_t a, size_t b) {  // a to b

@@ -87,6 +87,18 @@ ParticleSet halo_of(const ParticleShare& share, const ParticleSet& own, double r
   return from_rows(from_bytes<double>(share.group->exchange(to)), l, extra);
 }
 
+ParticleSet own_and_halo(const ParticleSet& own, const ParticleSet& halo) {
+  ParticleSet view;
+  view.positions = own.positions;
+  view.radii = own.radii;
+  view.positions.insert(view.positions.end(), halo.positions.begin(), halo.positions.end());
+  view.radii.insert(view.radii.end(), halo.radii.begin(), halo.radii.end());
+  view.ids.resize(own.size());
+  for (size_t i = 0; i < own.size(); ++i) view.ids[i] = own.id(i);
+  view.ids.insert(view.ids.end(), halo.ids.begin(), halo.ids.end());
+  return view;
+}
+
 ParticleSet gather_particles(ProcessGroup& group, const ParticleSet& own, bool everywhere) {
   if (group.alone()) return own;
   // Every process writes the same columns, though one may hold no sphere.

@@ -86,9 +86,12 @@ BoxSettings set_up_box(LammpsSession& lmp, const EngineParams& params, const Eng
   // listed on both, so each rank applies it to its own atom without a
   // reverse communication. `zero` builds the list to the cutoff plus the
   // skin and computes nothing.
-  cmd << "pair_style zero " << num(c.cutoff) << "\npair_coeff * *\n";
+  // Unequal spheres: to the largest pair's reach (its scaled cutoff and contact, or touching).
+  const double pairs = c.polydisperse ? std::max(c.list_reach - c.skin, c.contact_distance * c.max_radius / params.radius)
+                                      : c.cutoff;
+  cmd << "pair_style zero " << num(pairs) << "\npair_coeff * *\n";
   const double skin = (params.skin_sigma > 0 ? params.skin_sigma : kCpuFormSkinSigma) * c.sigma;
-  const double bin = list_bin_size(params, c.cutoff + skin);
+  const double bin = list_bin_size(params, pairs + skin);
   refuse_too_many_bins(hi - lo, bin, lmp.ranks());
   cmd << "neighbor " << num(skin) << " bin\nneigh_modify delay 0 every 1 check yes binsize " << num(bin) << "\n"
       << "fix " << fix_id << " all external pf/callback 1 1\n"

@@ -174,6 +174,8 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
   const double contact2 = c.contact_distance * c.contact_distance;
   const double a = params_.exponent_a, b = params_.exponent_b, eps = params_.eps;
   const bool damp = c.dashpot > 0;
+  // Unequal spheres: each pair's lengths scale with (r_i + r_j) / (2 radius), as on the other engines.
+  const double rs_ref = 2 * params_.radius;
   const int* tag = session_.atoms<int*>("id");
   // LAMMPS' per-atom 2-d arrays are one block with row pointers: read by
   // offset, not through the row pointer (one dependent load less a pair).
@@ -195,19 +197,21 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
       double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
       double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
       const double rs = radius[i] + radius[j];
-      if (d2 >= std::max(rc2, rs * rs)) continue;
+      const double q2 = c.polydisperse ? physics::pf_pair_scale2(rs, rs_ref, 1 / (rs_ref * rs_ref)) : 1.0;
+      if (d2 >= std::max(rc2 * q2, rs * rs)) continue;
+      const double q = c.polydisperse ? physics::pf_pair_scale(rs, rs_ref, 1 / rs_ref) : 1.0;
       const bool mine = j < nlocal;
-      // equal radii: the pair scales are 1 (unequal radii on LAMMPS: not yet)
       physics::pf_apart(&d[0], &d[1], &d[2], &d2, d2 < dmin * dmin, tag[j] > tag[i], dmin);
-      double fp = physics::pf_lj_force_scale(d2, sigma2, eps, a, b, c.a_half, c.b_half, rc2, c.force_cap, 1.0);
+      double fp =
+          physics::pf_lj_force_scale(d2, sigma2 * q2, eps, a, b, c.a_half, c.b_half, rc2 * q2, c.force_cap, q2 * q);
       double fn = 0;  // the dashpot, along n = d / |d|
-      if (d2 < std::max(rs * rs, contact2)) {
+      if (d2 < std::max(rs * rs, contact2 * q2)) {
         if (d2 < rs * rs) count += mine ? 1 : 0.5;
         if (damp) {
           const double inv_d = 1 / std::sqrt(d2);
           const double* vj = V + 3 * static_cast<size_t>(j);
           const double un = ((vi[0] - vj[0]) * d[0] + (vi[1] - vj[1]) * d[1] + (vi[2] - vj[2]) * d[2]) * inv_d;
-          fn = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, 1.0) * inv_d;
+          fn = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, q) * inv_d;
         }
       }
       fp += fn;
