@@ -38,6 +38,9 @@ struct ParticleSet {
   void clear() { positions.clear(); radii.clear(); colours.clear(); velocities.clear(); ids.clear(); }
 };
 
+/// The set in the order of its ids (ParticleSet::id), every column along.
+ParticleSet in_id_order(const ParticleSet& particles);
+
 /// Throws pfill::Error naming `source` (a file name or "particles") when the
 /// arrays differ in length (colours/velocities/ids may also be empty), or a
 /// position, velocity or radius is not finite, or a radius is not > 0.

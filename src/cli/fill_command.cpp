@@ -257,10 +257,10 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   }
   defer_interrupts_to(nullptr);
   printer.end_line();
-  // Each rank holds its own spheres (FillResult::particles): it writes them
+  // Each rank holds its own spheres (FillResult::in_parts): it writes them
   // as its part, or they go to rank 0, which writes the whole (so does a
-  // preview, or the last frame, need).
-  // (a result every rank holds whole, as unequal spheres' on LAMMPS: rank 0's part is all of it)
+  // preview, or the last frame, need). A result every rank holds whole
+  // (unequal spheres on LAMMPS): rank 0's part is all of it.
   if (parts) write_rank_part(r.in_parts || writer ? r.particles : ParticleSet(), a.output, rank, wo);
   if (r.in_parts && whole_on_first) r.particles = gather_particles(*lammps_process_group(), r.particles);
   if (!writer) return;

@@ -6,7 +6,6 @@
 #include <cstdint>
 #include <map>
 #include <memory>
-#include <numeric>
 #include <string>
 #include <vector>
 
@@ -44,18 +43,7 @@ ParticleSet join_parts(const std::vector<std::string>& parts) {
       if (with_velocities) all.velocities.push_back(p.velocities[i]);
     }
   }
-  std::vector<size_t> order(all.size());
-  std::iota(order.begin(), order.end(), size_t{0});
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return all.ids[a] < all.ids[b]; });
-  ParticleSet sorted;
-  for (size_t i : order) {
-    sorted.positions.push_back(all.positions[i]);
-    sorted.radii.push_back(all.radii[i]);
-    sorted.ids.push_back(all.ids[i]);
-    if (with_colours) sorted.colours.push_back(all.colours[i]);
-    if (with_velocities) sorted.velocities.push_back(all.velocities[i]);
-  }
-  return sorted;
+  return in_id_order(all);
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
   std::vector<Hole> holes = largest_holes(boundary, particles, radius, share);
   int filled = 0;
   while (o.hole_rounds > 0 && filled < kMostExactHoles) {
-    std::vector<Vec3> placed;  // this round's spheres, on every process (equal radii: `radius`; else in `particles`)
+    size_t placed = 0;  // this round's spheres, over every process (one process: those added to `particles`)
     const size_t before = particles.size();
     for (size_t k = 0; k < (deficit ? holes.size() : 1) && filled < kMostExactHoles; ++k) {
       double gap = holes[k].gap_over_r * radius;  // (less any sphere this round put near it)
@@ -48,7 +48,7 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
         r = deficit->take_within(std::min(gap, depth), rng);
         if (r == 0) continue;
       }
-      placed.push_back(holes[k].centre);
+      ++placed;
       const uint64_t id = next_id++;
       ++result.holes_filled;
       ++filled;
@@ -58,7 +58,7 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
       particles.ids.push_back(id);
       if (velocities) particles.velocities.push_back({});
     }
-    if (placed.empty()) break;
+    if (placed == 0) break;
     holes = largest_holes(boundary, particles, radius, share);
   }
   return holes.front();

@@ -2,9 +2,7 @@
 // the gather, as rows of 8-byte words through the ProcessGroup.
 #include "pfill/particle_share.hpp"
 
-#include <algorithm>
 #include <cstring>
-#include <numeric>
 
 #include "pfill/engine/birth_view.hpp"
 
@@ -110,20 +108,8 @@ ParticleSet gather_particles(ProcessGroup& group, const ParticleSet& own, bool e
   std::vector<double> rows;
   for (size_t i = 0; i < own.size(); ++i) append_row(own, i, l, rows);
   const Bytes mine = bytes_of(rows);
-  const ParticleSet all = from_rows(from_bytes<double>(everywhere ? group.all_gather(mine) : group.gather_to_first(mine)),
-                                    l, nullptr);
-  std::vector<size_t> order(all.size());
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return all.ids[a] < all.ids[b]; });
-  ParticleSet sorted;
-  for (size_t i : order) {
-    sorted.positions.push_back(all.positions[i]);
-    sorted.radii.push_back(all.radii[i]);
-    sorted.ids.push_back(all.ids[i]);
-    if (l.velocities) sorted.velocities.push_back(all.velocities[i]);
-    if (l.colours) sorted.colours.push_back(all.colours[i]);
-  }
-  return sorted;
+  return in_id_order(
+      from_rows(from_bytes<double>(everywhere ? group.all_gather(mine) : group.gather_to_first(mine)), l, nullptr));
 }
 
 }  // namespace pfill

@@ -1,7 +1,9 @@
-// The particle set's bounds and its validation.
+// The particle set's bounds, its order by id and its validation.
 #include "pfill/particles.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "pfill/error.hpp"
 #include "pfill/mesh.hpp"  // kMaxCoordinate
@@ -16,6 +18,21 @@ Box3 ParticleSet::bounds() const {
     box.add(positions[i] + Vec3(r, r, r));
   }
   return box;
+}
+
+ParticleSet in_id_order(const ParticleSet& s) {
+  std::vector<size_t> order(s.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return s.id(a) < s.id(b); });
+  ParticleSet sorted;
+  for (size_t i : order) {
+    sorted.positions.push_back(s.positions[i]);
+    sorted.radii.push_back(s.radii[i]);
+    sorted.ids.push_back(s.id(i));
+    if (s.has_colours()) sorted.colours.push_back(s.colours[i]);
+    if (s.has_velocities()) sorted.velocities.push_back(s.velocities[i]);
+  }
+  return sorted;
 }
 
 void validate(const ParticleSet& particles, const std::string& source) {
