@@ -48,6 +48,28 @@ Vec3 momentum(const std::vector<Particle>& ps) {
 }
 
 
+/// Runs `ref` and `lmp` 3 x 10 steps side by side, checking each step's
+/// record alike; returns the most colliding pairs of any step.
+uint32_t steps_side_by_side(ReferenceEngine& ref, ParticleEngine& lmp) {
+  uint32_t pairs = 0;
+  for (int round = 0; round < 3; ++round) {
+    ref.run_steps(10);
+    lmp.run_steps(10);
+    const std::vector<StepRecord> hr = ref.read_history(), hl = lmp.read_history();
+    REQUIRE(hl.size() == hr.size());
+    for (size_t s = 0; s < hr.size(); ++s) {
+      pairs = std::max(pairs, hr[s].colliding_pairs);
+      CHECK(hl[s].step == hr[s].step);
+      CHECK(hl[s].particles == hr[s].particles);
+      CHECK(hl[s].colliding_pairs == hr[s].colliding_pairs);
+      CHECK(hl[s].flagged == hr[s].flagged);
+      CHECK(hl[s].kinetic_energy == doctest::Approx(hr[s].kinetic_energy).epsilon(1e-6));
+      CHECK(hl[s].max_speed == doctest::Approx(hr[s].max_speed).epsilon(1e-6));
+    }
+  }
+  return pairs;
+}
+
 // A LAMMPS engine of small_params() on `field` (which must outlive it),
 // holding `start`, run `steps` steps.
 std::unique_ptr<ParticleEngine> lattice_engine(const ScalarGrid& field, const std::vector<Particle>& start, int steps) {
@@ -85,20 +107,7 @@ TEST_CASE("lammps engine: the same steps as the reference engine (positions, rec
   CHECK(lmp->describe().find("LAMMPS") != std::string::npos);
 
   const Vec3 p0 = momentum(lmp->read_particles());
-  for (int round = 0; round < 3; ++round) {
-    ref.run_steps(10);
-    lmp->run_steps(10);
-    const std::vector<StepRecord> hr = ref.read_history(), hl = lmp->read_history();
-    REQUIRE(hl.size() == hr.size());
-    for (size_t s = 0; s < hr.size(); ++s) {
-      CHECK(hl[s].step == hr[s].step);
-      CHECK(hl[s].particles == hr[s].particles);
-      CHECK(hl[s].colliding_pairs == hr[s].colliding_pairs);
-      CHECK(hl[s].flagged == hr[s].flagged);
-      CHECK(hl[s].kinetic_energy == doctest::Approx(hr[s].kinetic_energy).epsilon(1e-6));
-      CHECK(hl[s].max_speed == doctest::Approx(hr[s].max_speed).epsilon(1e-6));
-    }
-  }
+  steps_side_by_side(ref, *lmp);
   const std::vector<Particle> a = ref.read_particles(), b = lmp->read_particles();
   REQUIRE(a.size() == b.size());
   double worst = 0, worst_v = 0;
@@ -133,19 +142,7 @@ TEST_CASE("lammps engine: unequal spheres take the same steps as the reference e
   std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
   lmp->share_field(field);
   lmp->add_particles(start);
-  uint32_t pairs = 0;
-  for (int round = 0; round < 3; ++round) {
-    ref.run_steps(10);
-    lmp->run_steps(10);
-    const std::vector<StepRecord> hr = ref.read_history(), hl = lmp->read_history();
-    REQUIRE(hl.size() == hr.size());
-    for (size_t s = 0; s < hr.size(); ++s) {
-      pairs = std::max(pairs, hr[s].colliding_pairs);
-      CHECK(hl[s].colliding_pairs == hr[s].colliding_pairs);
-      CHECK(hl[s].kinetic_energy == doctest::Approx(hr[s].kinetic_energy).epsilon(1e-6));
-    }
-  }
-  CHECK(pairs > 10);  // large and small spheres overlap: the scales are at work
+  CHECK(steps_side_by_side(ref, *lmp) > 10);  // large and small spheres overlap: the scales are at work
   const std::vector<Particle> a = ref.read_particles(), b = lmp->read_particles();
   REQUIRE(a.size() == b.size());
   double worst = 0;

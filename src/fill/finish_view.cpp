@@ -1,9 +1,9 @@
 // The finish's view per process and what the processes agree on (finish_view.hpp).
 #include "fill/finish_view.hpp"
 #include "fill/particle_set_of.hpp"
+#include "fill/word_bits.hpp"
 
 #include <algorithm>
-#include <cstring>
 #include <utility>
 
 namespace pfill {
@@ -47,18 +47,6 @@ std::vector<size_t> picked_everywhere(ParticleEngine& engine, const FinishView& 
 }
 
 namespace {
-
-uint64_t bits_of(double x) {
-  uint64_t b;
-  std::memcpy(&b, &x, sizeof b);
-  return b;
-}
-
-double double_of(uint64_t b) {
-  double x;
-  std::memcpy(&x, &b, sizeof x);
-  return x;
-}
 
 /// Whether p lies within `d` of another process's sub-domain.
 bool near_border(const FinishView& view, const Vec3& p, double d) {

@@ -120,7 +120,11 @@ PackingMetrics measure_packing(const Boundary& boundary, double mesh_volume, con
   // No pair within touching reach (a sparse set: --rest-distance 5 keeps
   // centres ~10 r apart): look farther, doubling the reach, rather than
   // report 0 (issue 33: "closest centres 0.000000" where the real value was 4.7).
-  const double diagonal = group.max(particles.bounds().diagonal()) * group.size();  // (bounds every part's box)
+  const Box3 own_box = particles.bounds();  // the whole set's box: the parts' boxes' extremes over all
+  std::vector<double> extremes{own_box.hi.x, own_box.hi.y, own_box.hi.z, -own_box.lo.x, -own_box.lo.y, -own_box.lo.z};
+  group.max(extremes);
+  const double diagonal =
+      length(Vec3(extremes[0] + extremes[3], extremes[1] + extremes[4], extremes[2] + extremes[5]));
   for (double reach = 4 * largest; !std::isfinite(min_ratio) && m.count > 1 && reach <= 4 * diagonal; reach *= 2) {
     for_pairs_counted_here(particles, share, reach, [&](const ParticleSet& view, size_t i, size_t j) {
       const double d = length(view.positions[j] - view.positions[i]);

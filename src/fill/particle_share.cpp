@@ -2,8 +2,7 @@
 // the gather, as rows of 8-byte words through the ProcessGroup.
 #include "pfill/particle_share.hpp"
 
-#include <cstring>
-
+#include "fill/word_bits.hpp"
 #include "pfill/engine/birth_view.hpp"
 
 namespace pfill {
@@ -16,23 +15,11 @@ struct RowLayout {
   size_t width() const { return 5 + (velocities ? 3 : 0) + (colours ? 1 : 0) + extra; }
 };
 
-double id_word(uint64_t id) {
-  double w;
-  std::memcpy(&w, &id, sizeof w);
-  return w;
-}
-
-uint64_t word_id(double w) {
-  uint64_t id;
-  std::memcpy(&id, &w, sizeof id);
-  return id;
-}
-
 void append_row(const ParticleSet& s, size_t i, const RowLayout& l, std::vector<double>& out) {
   const Vec3& p = s.positions[i];
-  out.insert(out.end(), {p.x, p.y, p.z, s.radii[i], id_word(s.id(i))});
+  out.insert(out.end(), {p.x, p.y, p.z, s.radii[i], double_of(s.id(i))});
   if (l.velocities) out.insert(out.end(), {s.velocities[i].x, s.velocities[i].y, s.velocities[i].z});
-  if (l.colours) out.push_back(id_word(s.colours[i][0] | s.colours[i][1] << 8 | s.colours[i][2] << 16));
+  if (l.colours) out.push_back(double_of(uint64_t{s.colours[i][0]} | uint64_t{s.colours[i][1]} << 8 | uint64_t{s.colours[i][2]} << 16));
 }
 
 /// The rows back as spheres (their extra words, if any, into `extra`).
@@ -43,11 +30,11 @@ ParticleSet from_rows(const std::vector<double>& rows, const RowLayout& l, std::
     const double* r = &rows[k * w];
     s.positions.push_back({r[0], r[1], r[2]});
     s.radii.push_back(r[3]);
-    s.ids.push_back(word_id(r[4]));
+    s.ids.push_back(bits_of(r[4]));
     size_t at = 5;
     if (l.velocities) s.velocities.push_back({r[at], r[at + 1], r[at + 2]}), at += 3;
     if (l.colours) {
-      const uint64_t c = word_id(r[at++]);
+      const uint64_t c = bits_of(r[at++]);
       s.colours.push_back({static_cast<uint8_t>(c), static_cast<uint8_t>(c >> 8), static_cast<uint8_t>(c >> 16)});
     }
     if (extra) extra->insert(extra->end(), r + at, r + at + l.extra);

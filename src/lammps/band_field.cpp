@@ -5,6 +5,7 @@
 #include <sys/mman.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <new>
@@ -71,6 +72,7 @@ int32_t BandField::open_group(int bi, int bj, int bk) {
   std::vector<float> values(kL * kL * kL), bound(kL * kL * kL, 0.0f);
   auto sample_index = [](int x, int y, int z) { return static_cast<size_t>(x + kL * (y + kL * z)); };
   const size_t first = bricks_.size();
+  std::vector<std::array<int, 3>> corner;  // each new slot's first sample in the group's samples
   for (int z = g[2]; z < std::min(g[2] + kGroup, nb_[2]); ++z)
     for (int y = g[1]; y < std::min(g[1] + kGroup, nb_[1]); ++y)
       for (int x = g[0]; x < std::min(g[0] + kGroup, nb_[0]); ++x) {
@@ -85,11 +87,12 @@ int32_t BandField::open_group(int bi, int bj, int bk) {
         }
         index_[b] = static_cast<int32_t>(bricks_.size());
         bricks_.push_back(static_cast<int32_t>(b));
+        corner.push_back({(x - g[0]) * kCells, (y - g[1]) * kCells, (z - g[2]) * kCells});
         const float reach = static_cast<float>(1.01 * (std::fabs(d) + half_diagonal));
         for (int sz = 0; sz < kSide; ++sz)
           for (int sy = 0; sy < kSide; ++sy)
             for (int sx = 0; sx < kSide; ++sx) {
-              const size_t n = sample_index((x - g[0]) * kCells + sx, (y - g[1]) * kCells + sy, (z - g[2]) * kCells + sz);
+              const size_t n = sample_index(corner.back()[0] + sx, corner.back()[1] + sy, corner.back()[2] + sz);
               bound[n] = std::max(bound[n], reach);
             }
       }
@@ -108,14 +111,11 @@ int32_t BandField::open_group(int bi, int bj, int bk) {
     std::unique_ptr<float[], FreeChunk>& c = chunks_[slot >> kChunkShift];
     if (!c) c.reset(allocate_chunk());
     float* v = c.get() + (slot & static_cast<size_t>(kChunkMask)) * kBrickFloats;
-    const size_t b = static_cast<size_t>(bricks_[slot]);
-    const int x0 = static_cast<int>(b % nb_[0]) * kCells - g[0] * kCells,
-              y0 = static_cast<int>(b / nb_[0] % nb_[1]) * kCells - g[1] * kCells,
-              z0 = static_cast<int>(b / nb_[0] / nb_[1]) * kCells - g[2] * kCells;
+    const std::array<int, 3>& o = corner[slot - first];
     for (int z = 0; z < kSide; ++z)
       for (int y = 0; y < kSide; ++y)
         for (int x = 0; x < kSide; ++x)
-          v[x + kSide * (y + kSide * z)] = values[sample_index(x0 + x, y0 + y, z0 + z)] + offset_;
+          v[x + kSide * (y + kSide * z)] = values[sample_index(o[0] + x, o[1] + y, o[2] + z)] + offset_;
   }
   return index_[brick_index(bi, bj, bk)];
 }
