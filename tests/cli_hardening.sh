@@ -41,7 +41,7 @@ refused "seed" "$pfill" fill --seed -1
 refused "seed" "$pfill" fill --seed 18446744073709551616
 refused "not both" "$pfill" fill -n 300 -r 0.05
 refused "not both" "$pfill" fill same.obj --builtin cube
-refused "patience" "$pfill" fill --patience 0
+refused "patience" "$pfill" fill --patience 50
 refused "hole-rounds" "$pfill" fill --hole-rounds -1
 refused "site-depth" "$pfill" fill --site-depth 2
 refused "birth-clearance" "$pfill" fill --birth-clearance 0.1

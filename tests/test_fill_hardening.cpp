@@ -124,7 +124,7 @@ TEST_CASE("options that would make a fill endless or empty are refused before it
   o.birth_clearance = 0.1;
   refused(o, "birth_clearance must");
   o = {};
-  o.patience = 0;
+  o.patience = 50;  // (0 is automatic)
   refused(o, "patience must");
   o = {};
   o.hole_rounds = -1;

@@ -22,6 +22,7 @@ TEST_CASE("a fill's ids are unique, stable across frames and in the result; the 
   o.colour = ColourOptions{ColourMode::None, {}};
   o.frame_every = 10;
   o.sync_every = 10;  // a frame can come only at the end of a batch of steps
+  o.max_step = 0.1;   // the top speed the reach below counts with
   std::vector<ParticleSet> frames;
   std::vector<uint64_t> steps;
   o.on_frame = [&](uint64_t step, const ParticleSet& s) { frames.push_back(s), steps.push_back(step); };

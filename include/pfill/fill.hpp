@@ -97,13 +97,13 @@ struct FillOptions {
   /// this many rest distances apart, each where its newborn overlaps no
   /// sphere (the sparse start in a few hundred steps, not thousands); 0: none.
   double room_spacing = 1.5;
-  int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 48 (waves)
+  int birth_every = 0;          ///< steps between birth attempts at each site; 0: 3 (sites >= 1) or 0.48 tau (waves: 24 steps of equal spheres, 48 of unequal)
   std::optional<Vec3> birth;    ///< overrides the first site (must lie r inside)
   std::array<double, 2> birth_speed{0.3, 0.6};  ///< newborn speed range, as fractions of the top speed
   /// A site has room when no centre is within this many rest distances; 0:
   /// automatic, 0.5 for the report's schedule and 0.55 for waves.
   double birth_clearance = 0;
-  int patience = 1500;          ///< steps without a birth at any site that mean the sites are blocked
+  int patience = 0;             ///< steps without a birth at any site that mean the sites are blocked; 0: 15 tau (1,500 steps at the report's step, 750 at the waves' of equal spheres)
   /// Waves: pass 1 also ends when the births of the last `patience` steps
   /// are at most this share of the particles. -1: automatic, 3% under a
   /// bound below 1% of r (later births only overfill what the finish
@@ -115,8 +115,10 @@ struct FillOptions {
 
   // ---- tuning: the dynamics ----
   double damping = 0;           ///< velocity damping rate during passes 1-2
-  double time_step = 0.01;      ///< in units of the potential's time scale tau = sigma sqrt(m / eps)
-  double max_step = 0.1;        ///< top speed: no particle moves more than this many sigma a step
+  /// Pass 1's and the settle's step, in units of the potential's time scale
+  /// tau = sigma sqrt(m / eps); 0: 0.02 for waves of equal spheres, else 0.01 (the report's).
+  double time_step = 0;
+  double max_step = 0;          ///< top speed: no particle moves more than this many sigma a step; 0: 10 time_step (10 sigma per tau)
   int top_up_patience = 1500;   ///< pass 2 gives up after this many steps without a birth
   double rest_speed = 0.02;     ///< at rest: top speed below this fraction of the speed cap ...
   int rest_steps = 200;         ///< ... for this many steps

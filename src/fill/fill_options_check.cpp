@@ -52,14 +52,15 @@ void check_fill_options(const FillOptions& o) {
   need(o.birth_clearance == 0 || in(o.birth_clearance, 0.25, 4),
        "birth_clearance must be 0 (automatic) or in [0.25, 4] rest distances; below 0.25 a site never "
        "fills up and births go on without end");
-  need(o.patience >= std::max(100, 10 * o.birth_every) && o.patience <= 10'000'000,
-       "patience must be at least 100 steps and 10 birth intervals (birth_every), at most 10,000,000 "
-       "(default 1500)");
+  need(o.patience == 0 || (o.patience >= std::max(100, 10 * o.birth_every) && o.patience <= 10'000'000),
+       "patience must be 0 (automatic) or at least 100 steps and 10 birth intervals (birth_every), at most "
+       "10,000,000");
   need(o.stop_share == -1 || (o.stop_share >= 0 && o.stop_share < 1),
        "stop_share must be in [0, 1), or -1 for automatic");
   need(std::isfinite(o.damping) && o.damping >= 0 && o.damping <= 1e6, "damping must be in [0, 1e6]");
-  need(in(o.time_step, 1e-4, 0.05), "time_step must be in [0.0001, 0.05] tau (smaller steps never finish)");
-  need(in(o.max_step, 1e-3, 0.5), "max_step must be in [0.001, 0.5] sigma");
+  need(o.time_step == 0 || in(o.time_step, 1e-4, 0.05),
+       "time_step must be 0 (automatic) or in [0.0001, 0.05] tau (smaller steps never finish)");
+  need(o.max_step == 0 || in(o.max_step, 1e-3, 0.5), "max_step must be 0 (automatic) or in [0.001, 0.5] sigma");
   need(o.max_steps == 0 || (o.max_steps >= 100 && o.max_steps <= 1'000'000'000'000ull),
        "max_steps must be 0 (automatic) or 100..1e12 steps");
   need(o.top_up_patience >= 1 && o.top_up_patience <= 10'000'000, "top_up_patience must be 1..10,000,000");
@@ -97,7 +98,8 @@ void check_fill_options(const FillOptions& o, const Mesh& mesh, double radius) {
   // Damping is a rate in the mesh's time; per step it removes 1 - exp(-damping dt).
   const double a = o.exponents[0], b = o.exponents[1];
   const double sigma = o.rest_distance * 2 * radius / std::pow(a / b, 1 / (a - b));
-  const double dt = o.time_step * sigma / std::sqrt(o.epsilon);
+  // (Automatic: the waves' step, the longer of the two schedules'.)
+  const double dt = (o.time_step > 0 ? o.time_step : 0.02) * sigma / std::sqrt(o.epsilon);
   if (o.damping * dt > 0.1)
     throw Error("damping " + short_number(o.damping) + " stops every particle within a few steps at this radius; "
                 "keep it below " + short_number(0.1 / dt));

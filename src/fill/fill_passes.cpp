@@ -97,7 +97,7 @@ void FillPasses::pass1() {
   // a bound below 1% of r, where later births only overfill what the finish
   // deletes; 0.3% at looser bounds, where the overfill is the density).
   BlockedSitesSettings bs;
-  bs.patience = o_.patience;
+  bs.patience = plan_.patience;
   bs.share = !plan_.waves ? 0 : o_.stop_share >= 0 ? o_.stop_share : o_.max_overlap < 0.01 ? 0.03 : 0.003;
   BlockedSitesTest blocked(bs);
   reporter_.set_schedule(static_cast<size_t>(std::llround(plan_.expected)),

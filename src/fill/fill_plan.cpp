@@ -14,9 +14,23 @@
 namespace pfill {
 namespace {
 
-// Steps between waves: slower waves compress more gently and pack denser,
-// while pass 1 stays about 20,000 steps at any count.
-constexpr int kWaveEvery = 48;
+// Pass 1's time step, in tau: waves of equal spheres take steps twice the
+// report's. With the top speed, the time between waves and the patience
+// held the same in tau, their pass 1 takes half the steps and packs as
+// densely (spot -n 4000 seeds 1-12 0.6009 against 0.6010, 16,000 and 1e5
+// denser; docs/benchmarks.md, 2026-12-06). Alone, a doubled step halves
+// the top speed and fills short (0.5812); at 0.03 tau births jam. Unequal
+// spheres keep the report's step: lognormal radii lost 0.008 at twice it.
+constexpr double kWaveTimeStep = 0.02, kSiteTimeStep = 0.01;
+// The top speed, in sigma per tau: a step's largest move is this times the
+// step (0.1 sigma at the report's step).
+constexpr double kTopSpeed = 10;
+// Time between waves, in tau (24 steps of a wave's step): slower waves
+// compress more gently and pack denser, while pass 1 stays at about the
+// same number of steps at any count.
+constexpr double kWaveEveryTau = 0.48;
+// Patience, in tau: 1,500 steps at the report's step.
+constexpr double kPatienceTau = 15;
 // The automatic schedule's switch to waves (FillOptions::sites = -1): below
 // this count the report's two sites pack denser and take no longer; from it
 // on, waves are faster.
@@ -110,7 +124,14 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
   so.inside_cell = 4;
 
   plan.waves = o.sites == 0 || (o.sites < 0 && std::llround(plan.expected) >= static_cast<long long>(kWavesFrom));
-  plan.birth_every = o.birth_every > 0 ? o.birth_every : (plan.waves ? kWaveEvery : 3);
+  plan.time_step = o.time_step > 0 ? o.time_step : plan.waves && !plan.sizes ? kWaveTimeStep : kSiteTimeStep;
+  plan.max_step = o.max_step > 0 ? o.max_step : std::min(0.5, kTopSpeed * plan.time_step);
+  plan.birth_every =
+      o.birth_every > 0 ? o.birth_every : (plan.waves ? static_cast<int>(std::lround(kWaveEveryTau / plan.time_step)) : 3);
+  plan.birth_every = std::max(1, plan.birth_every);
+  plan.patience = o.patience > 0 ? o.patience
+                                 : std::max({100, 10 * plan.birth_every,
+                                             static_cast<int>(std::lround(kPatienceTau / plan.time_step))});
   plan.birth_clearance = o.birth_clearance > 0 ? o.birth_clearance : (plan.waves ? kWaveClearance : kSiteClearance);
   return plan;
 }
@@ -156,8 +177,8 @@ EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o) {
   p.restitution = o.restitution;
   p.wall_restitution = o.wall_restitution;
   p.damping = o.damping;
-  p.dt = o.time_step * derive_constants(p).tau;
-  p.max_step_fraction = o.max_step;
+  p.dt = plan.time_step * derive_constants(p).tau;
+  p.max_step_fraction = plan.max_step;
   p.skin_sigma = o.skin;
   p.births_at_speed = true;
   return p;

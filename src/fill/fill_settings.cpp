@@ -207,14 +207,17 @@ std::vector<FillSetting> birth_settings() {
            "Waves: until half the count is in, births also at room sites this many rest distances apart, where "
            "a newborn overlaps nothing (0: none)"),
       whole(FIELD(birth_every), T::Tuning, 0,
-            "Steps between birth attempts at each site (0: automatic, 48 for waves, 3 at the report's sites)"),
+            "Steps between birth attempts at each site (0: automatic, 0.48 tau for waves, 3 at the report's "
+            "sites)"),
       point_setting(FIELD(birth), T::Tuning, "First birth site (must lie a radius inside; default the deepest point)"),
       pair(FIELD(birth_speed), T::Tuning, "MIN,MAX",
            "Newborn speed range, fractions of the top speed"),
       real(FIELD(birth_clearance), T::Tuning,
            "A site has room when no centre is within this many rest distances (0: automatic, 0.55 for waves, 0.5 "
            "at the report's sites)"),
-      whole(FIELD(patience), T::Tuning, 0, "Steps with no birth that mean the sites are blocked"),
+      whole(FIELD(patience), T::Tuning, 0,
+            "Steps with no birth that mean the sites are blocked (0: automatic, 15 tau: 1,500 steps at a step of "
+            "0.01 tau)"),
       real(FIELD(stop_share), T::Tuning,
            "Waves: pass 1 also ends when the births of the last `patience` steps are at most this share of the "
            "particles (-1: automatic, 0.03 under a max_overlap below 0.01, else 0.003)"),
@@ -230,8 +233,11 @@ std::vector<FillSetting> other_tuning_settings() {
   return {
       // ---- tuning: dynamics ----
       real(FIELD(damping), T::Tuning, "Velocity damping rate during passes 1 and 2"),
-      real(FIELD(time_step), T::Tuning, "Time step in units of the potential's time scale tau"),
-      real(FIELD(max_step), T::Tuning, "Top speed: the most a particle moves in a step, in sigma"),
+      real(FIELD(time_step), T::Tuning,
+           "Time step of pass 1 and the settle in units of the potential's time scale tau (0: automatic, 0.02 for "
+           "waves of equal spheres, else 0.01)"),
+      real(FIELD(max_step), T::Tuning,
+           "Top speed: the most a particle moves in a step, in sigma (0: automatic, 10 time_step)"),
       whole(FIELD(settle_steps), T::Tuning, 1, "Most steps of the settle (it ends sooner at rest)"),
       // ---- tuning: the finish ----
       whole(FIELD(hole_rounds), T::Tuning, 0,
