@@ -8,8 +8,9 @@
 #include <cstdio>
 #include <string>
 
-#include "pfill/error.hpp"
+#include "fill/fill_plan.hpp"
 #include "fill/short_number.hpp"
+#include "pfill/error.hpp"
 
 namespace pfill {
 void check_fill_options(const FillOptions& o) {
@@ -99,7 +100,7 @@ void check_fill_options(const FillOptions& o, const Mesh& mesh, double radius) {
   const double a = o.exponents[0], b = o.exponents[1];
   const double sigma = o.rest_distance * 2 * radius / std::pow(a / b, 1 / (a - b));
   // (Automatic: the waves' step, the longer of the two schedules'.)
-  const double dt = (o.time_step > 0 ? o.time_step : 0.02) * sigma / std::sqrt(o.epsilon);
+  const double dt = (o.time_step > 0 ? o.time_step : kWaveTimeStep) * sigma / std::sqrt(o.epsilon);
   if (o.damping * dt > 0.1)
     throw Error("damping " + short_number(o.damping) + " stops every particle within a few steps at this radius; "
                 "keep it below " + short_number(0.1 / dt));

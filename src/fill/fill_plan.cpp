@@ -14,14 +14,6 @@
 namespace pfill {
 namespace {
 
-// Pass 1's time step, in tau: waves of equal spheres take steps twice the
-// report's. With the top speed, the time between waves and the patience
-// held the same in tau, their pass 1 takes half the steps and packs as
-// densely (spot -n 4000 seeds 1-12 0.6009 against 0.6010, 16,000 and 1e5
-// denser; docs/benchmarks.md, 2026-12-06). Alone, a doubled step halves
-// the top speed and fills short (0.5812); at 0.03 tau births jam. Unequal
-// spheres keep the report's step: lognormal radii lost 0.008 at twice it.
-constexpr double kWaveTimeStep = 0.02, kSiteTimeStep = 0.01;
 // The top speed, in sigma per tau: a step's largest move is this times the
 // step (0.1 sigma at the report's step).
 constexpr double kTopSpeed = 10;
