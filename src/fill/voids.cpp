@@ -16,9 +16,12 @@ namespace {
 
 /// find_holes over the points of `sdf` (its spacing, origin and dims),
 /// with the signed distance at a grid point (`at_point`) and anywhere (`at`).
+/// `point_is_cheap`: `at_point` reads a stored value, so it is tested
+/// before the centres (most of a box lies outside the object or near its
+/// wall, and one read rules such a point out); else after them.
 template <typename AtPoint, typename At>
 std::vector<Vec3> holes_on_lattice(const ParticleSet& particles, const ScalarGrid& sdf, const AtPoint& at_point,
-                                   const At& at, double radius, double clearance, size_t limit,
+                                   bool point_is_cheap, const At& at, double radius, double clearance, size_t limit,
                                    double reference_radius, std::vector<double>* distances, const Box3* within) {
   std::vector<Vec3> holes;
   // Unequal spheres: distances to sphere surfaces, plus the reference
@@ -58,6 +61,7 @@ std::vector<Vec3> holes_on_lattice(const ParticleSet& particles, const ScalarGri
   tbb::parallel_for(first[2], std::max(first[2], last[2]), [&](int k) {  // (no hole is taken yet: `nearest` only reads)
     for (int j = first[1]; j < last[1]; ++j)
       for (int i = first[0]; i < last[0]; ++i) {
+        if (point_is_cheap && -at_point(i, j, k) < radius) continue;
         const Vec3 p = sdf.point(i, j, k);
         // Most points have a centre well within the clearance: one found ends the search.
         if (grid.any_near(p, [&](uint32_t id) {
@@ -66,7 +70,7 @@ std::vector<Vec3> holes_on_lattice(const ParticleSet& particles, const ScalarGri
               return length(v) - offset(id) < least * (1 - 1e-9);
             }))
           continue;
-        if (-at_point(i, j, k) < radius) continue;  // (after the centres: it may be an exact distance, dearer)
+        if (!point_is_cheap && -at_point(i, j, k) < radius) continue;  // (an exact distance: dearer than the centres)
         const double d = nearest(p);
         if (d >= clearance - miss) slices[static_cast<size_t>(k)].push_back({p, d});
       }
@@ -97,7 +101,7 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& sdf
                              size_t limit, double reference_radius, std::vector<double>* distances,
                              const Box3* within) {
   return holes_on_lattice(
-      particles, sdf, [&sdf](int i, int j, int k) { return static_cast<double>(sdf.at(i, j, k)); },
+      particles, sdf, [&sdf](int i, int j, int k) { return static_cast<double>(sdf.at(i, j, k)); }, true,
       [&sdf](const Vec3& q) { return sample(sdf, q); }, radius, clearance, limit, reference_radius, distances,
       within);
 }
@@ -107,7 +111,7 @@ std::vector<Vec3> find_holes(const ParticleSet& particles, const ScalarGrid& lat
                              double clearance, size_t limit, double reference_radius, std::vector<double>* distances,
                              const Box3* within) {
   return holes_on_lattice(
-      particles, lattice, [&](int i, int j, int k) { return signed_distance(lattice.point(i, j, k)); },
+      particles, lattice, [&](int i, int j, int k) { return signed_distance(lattice.point(i, j, k)); }, false,
       signed_distance, radius, clearance, limit, reference_radius, distances, within);
 }
 
