@@ -31,16 +31,21 @@ double top_speed(const FillPlan& plan, const FillOptions& o) {
   return c.max_speed * c.tau / c.sigma;
 }
 
+/// The plan's schedule: its step (tau), top step (sigma), wave interval and patience (steps).
+void check_schedule(const FillPlan& p, double time_step, double max_step, int birth_every, int patience) {
+  CHECK(p.time_step == doctest::Approx(time_step));
+  CHECK(p.max_step == doctest::Approx(max_step));
+  CHECK(p.birth_every == birth_every);
+  CHECK(p.patience == patience);
+}
+
 }  // namespace
 
 TEST_CASE("waves of equal spheres step twice the report's step, with the top speed and the times in tau held") {
   const FillOptions waves = counted(4000);
   const FillPlan w = plan_of(waves);
   REQUIRE(w.waves);
-  CHECK(w.time_step == doctest::Approx(0.02));
-  CHECK(w.max_step == doctest::Approx(0.2));
-  CHECK(w.birth_every == 24);
-  CHECK(w.patience == 750);
+  check_schedule(w, 0.02, 0.2, 24, 750);
 
   // The report's schedule: one site, a birth every step, its own 0.01 tau.
   FillOptions report = counted(4000);
@@ -48,10 +53,7 @@ TEST_CASE("waves of equal spheres step twice the report's step, with the top spe
   report.birth_every = 1;
   const FillPlan r = plan_of(report);
   REQUIRE_FALSE(r.waves);
-  CHECK(r.time_step == doctest::Approx(0.01));
-  CHECK(r.max_step == doctest::Approx(0.1));
-  CHECK(r.birth_every == 1);
-  CHECK(r.patience == 1500);
+  check_schedule(r, 0.01, 0.1, 1, 1500);
 
   // The same top speed, 10 sigma per tau, and the engine's step from the plan's.
   CHECK(top_speed(w, waves) == doctest::Approx(10));
@@ -65,27 +67,20 @@ TEST_CASE("unequal spheres keep the report's step in waves: 48 steps between wav
   o.radii = RadiusDistribution::parse("lognormal:1,0.2");
   const FillPlan p = plan_of(o);
   REQUIRE(p.waves);
-  CHECK(p.time_step == doctest::Approx(0.01));
-  CHECK(p.max_step == doctest::Approx(0.1));
-  CHECK(p.birth_every == 48);
-  CHECK(p.patience == 1500);
+  check_schedule(p, 0.01, 0.1, 48, 1500);
 }
 
 TEST_CASE("a step given by the caller moves the automatic top speed, waves and patience with it; given ones stand") {
   FillOptions o = counted(4000);
   o.time_step = 0.015;
   FillPlan p = plan_of(o);
-  CHECK(p.max_step == doctest::Approx(0.15));
-  CHECK(p.birth_every == 32);
-  CHECK(p.patience == 1000);
+  check_schedule(p, 0.015, 0.15, 32, 1000);
   CHECK(top_speed(p, o) == doctest::Approx(10));
 
   o.max_step = 0.05;
   o.birth_every = 10;
   o.patience = 400;
   p = plan_of(o);
-  CHECK(p.max_step == doctest::Approx(0.05));
-  CHECK(p.birth_every == 10);
-  CHECK(p.patience == 400);
+  check_schedule(p, 0.015, 0.05, 10, 400);
   CHECK(top_speed(p, o) == doctest::Approx(0.05 / 0.015));
 }

@@ -41,7 +41,7 @@ struct FillPlan {
   double size_scale = 1;
   SdfOptions field{0};        ///< the distance field's spacing, margin and band
   bool waves = false;         ///< births in waves over spread sites (else the report's sites)
-  double time_step = 0.01;    ///< pass 1's step, in tau (FillOptions::time_step, or the schedule's)
+  double time_step = kSiteTimeStep;  ///< pass 1's step, in tau (FillOptions::time_step, or the schedule's)
   double max_step = 0.1;      ///< a step's largest move, in sigma (the top speed)
   int birth_every = 3;        ///< steps between births at a site (a wave's steps with waves)
   int patience = 1500;        ///< steps with no birth (waves: few births) that end pass 1
