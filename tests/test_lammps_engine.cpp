@@ -19,6 +19,7 @@
 
 #include "fill/site_verdicts.hpp"
 #include "lammps/birth_tally.hpp"
+#include "lammps/particle_book.hpp"
 #include "pfill/birth_sites.hpp"
 #include "lammps_fixtures.hpp"
 #include "pfill/engine/reference.hpp"
@@ -254,8 +255,11 @@ TEST_CASE("lammps engine: births, removals, flags and ids as the reference keeps
     worst = std::max(worst, length(a[i].position - b[i].position));
   }
   CHECK(worst < 1e-9);
-  std::vector<size_t> order = lmp->sort_by_cells();
-  CHECK(order.size() == a.size());
+  // LAMMPS keeps its own order: a sort names no new order, and the indices stay.
+  CHECK(lmp->sort_by_cells().empty());
+  const std::vector<Particle> sorted = lmp->read_particles();
+  REQUIRE(sorted.size() == b.size());
+  for (size_t i = 0; i < b.size(); ++i) CHECK(sorted[i].id == b[i].id);
 }
 
 TEST_CASE("lammps engine: what LAMMPS would stop the program on is refused first, in one line") {
@@ -443,10 +447,11 @@ TEST_CASE("lammps engine: the first waves' newborns as on one process") {
 }
 
 // Issue 31: births split over the ranks. Each rank hands LAMMPS only the
-// newborns it decided (ParticleEngine::add_decided_particles), yet every
-// rank books every newborn's index and id in the batch's order; a newborn
-// a rank gives from outside its sub-domain (decided on an older one) is
-// sent on and still created once.
+// newborns it decided (ParticleEngine::add_decided_particles) with their
+// places in the batch, and none is given the batch's ids, yet each newborn
+// gets the index of its place and keeps its id; a newborn a rank gives
+// from outside its sub-domain (decided on an older one) is sent on and
+// still created once.
 TEST_CASE("lammps engine: births split over the ranks, booked on every rank") {
   if (!lammps_available()) return;
   const ScalarGrid field = test::ball_field(0.5, 0.02);
@@ -455,32 +460,33 @@ TEST_CASE("lammps engine: births split over the ranks, booked on every rank") {
   const BirthView view = lmp->birth_view(0.08, false);
   // Births between the lattice's points, ids of their own.
   std::vector<Particle> births = lattice(0.44, 0.11, 6);
-  std::vector<uint64_t> ids;
-  for (Particle& b : births) b.position += Vec3{0.055, 0.055, 0.055}, b.id += 5000, ids.push_back(b.id);
+  for (Particle& b : births) b.position += Vec3{0.055, 0.055, 0.055}, b.id += 5000;
   const MpiWorld world = lammps_mpi_start();
   const lammps_engine::BirthTally before = lammps_engine::birth_tally();
   std::vector<Particle> mine;
+  std::vector<size_t> places;
+  auto give = [&](size_t k) { mine.push_back(births[k]), places.push_back(k); };
   bool all_on_rank_0 = false;
   SUBCASE("each rank gives the births at its own sites") {
-    for (const Particle& b : births)
-      if (view.decides(b.position)) mine.push_back(b);
+    for (size_t k = 0; k < births.size(); ++k)
+      if (view.decides(births[k].position)) give(k);
   }
-  SUBCASE("rank 0 gives them all: the others' sent on") {
+  SUBCASE("rank 0 gives them all (the last first): the others' sent on") {
     all_on_rank_0 = true;
-    if (world.rank == 0) mine = births;
+    if (world.rank == 0)
+      for (size_t k = births.size(); k-- > 0;) give(k);
   }
   SUBCASE("all in rank 0's sub-domain: the others give none") {
     std::vector<Particle> kept;
     for (const Particle& b : births)
       if (view.complete() || owning_region(view.regions, b.position) == 0) kept.push_back(b);
-    births = kept, ids.clear();
-    for (const Particle& b : births) ids.push_back(b.id);
-    for (const Particle& b : births)
-      if (view.decides(b.position)) mine.push_back(b);
+    births = kept;
+    for (size_t k = 0; k < births.size(); ++k)
+      if (view.decides(births[k].position)) give(k);
     if (world.rank > 0) CHECK(mine.empty());
   }
   REQUIRE_FALSE(births.empty());
-  const size_t first = lmp->add_decided_particles(mine, ids);
+  const size_t first = lmp->add_decided_particles(mine, places, births.size());
   const lammps_engine::BirthTally after = lammps_engine::birth_tally();
   CHECK(first == start.size());
   CHECK(after.newborns - before.newborns == births.size());
@@ -527,12 +533,58 @@ TEST_CASE("lammps engine: a fill's waves, each newborn created by the rank whose
   }
 }
 
-TEST_CASE("an engine of one process takes a birth batch whole") {
+TEST_CASE("an engine of one process takes a birth batch whole, in its places' order") {
   ReferenceEngine ref(small_params());
-  Particle b;
-  b.radius = 0.05;
-  b.id = 9;
-  CHECK(ref.add_decided_particles({b}, {9}) == 0);
-  CHECK(ref.size() == 1);
-  CHECK_THROWS_AS(ref.add_decided_particles({}, {10}), Error);
+  Particle a, b;
+  a.radius = b.radius = 0.05;
+  a.id = 9, b.id = 10;
+  b.position = {0.2, 0, 0};
+  CHECK(ref.add_decided_particles({b, a}, {1, 0}, 2) == 0);
+  REQUIRE(ref.size() == 2);
+  const std::vector<Particle> out = ref.read_particles();
+  CHECK(out[0].id == 9);
+  CHECK(out[1].id == 10);
+  CHECK_THROWS_WITH_AS(ref.add_decided_particles({}, {}, 1), doctest::Contains("one process must give them all"),
+                       Error);
+  CHECK_THROWS_WITH_AS(ref.add_decided_particles({a, b}, {1, 1}, 2), doctest::Contains("each of 0..1 once"), Error);
+  CHECK(ref.size() == 2);
 }
+
+// Issue 31: the LAMMPS engine keeps no record of every particle; its book
+// works out from the removed indices alone where the survivors go. That
+// must be what removing from an array does, the last into each hole from
+// the largest index down (the other engines' rule, Engine::remove_particles).
+TEST_CASE("the LAMMPS engine's book moves indices on removal as the array's swaps do") {
+  std::mt19937 rng(5);
+  for (int trial = 0; trial < 200; ++trial) {
+    const size_t n = 1 + rng() % 60;
+    lammps_engine::ParticleBook book;
+    book.added(n);
+    std::vector<size_t> labels(n);  // the array: who sits at each index
+    for (size_t i = 0; i < n; ++i) labels[i] = i;
+    std::vector<size_t> removed;
+    const size_t k = rng() % (n + 1);
+    for (size_t j = 0; j < k; ++j) removed.push_back(rng() % n);  // repeats too
+    std::vector<size_t> desc = removed;
+    std::sort(desc.begin(), desc.end(), std::greater<size_t>());
+    desc.erase(std::unique(desc.begin(), desc.end()), desc.end());
+    for (size_t idx : desc) labels[idx] = labels.back(), labels.pop_back();
+    const lammps_engine::Removal r = book.remove(removed);
+    REQUIRE(book.size() == labels.size());
+    CHECK(r.gone == std::vector<size_t>(desc.rbegin(), desc.rend()));
+    std::vector<size_t> after(n, n);  // each original's new index (n: gone or unmoved)
+    for (const auto& [from, to] : r.moves) after[from] = to;
+    for (size_t i = 0; i < labels.size(); ++i) {
+      const size_t original = labels[i];
+      const size_t expected = original != i ? i : n;  // moved here, or never moved
+      CHECK(after[original] == expected);
+    }
+  }
+  lammps_engine::ParticleBook book;
+  CHECK(book.new_tags(3) == 1);  // tags never given twice, removals or not
+  book.added(3);
+  CHECK(book.new_tags(2) == 4);
+  CHECK_THROWS_WITH_AS(book.remove({1, 3}), doctest::Contains("cannot remove particle 3 of 3"), Error);
+  CHECK(book.size() == 3);
+}
+

@@ -153,20 +153,20 @@ TEST_CASE("lammps engine: the finish per sub-domain holds the bound, each rank d
 }
 
 // The fill hands the finish each rank's own spheres (ParticleEngine::
-// local_view) with the whole set's ids, so no rank is given every sphere:
-// split so (rank r: every P-th sphere from r; LAMMPS sends each to the
-// rank whose sub-domain holds it), the finish ends as from the whole set.
+// local_view) at their places in the set (SetShare: in rank order), so no
+// rank is given every sphere nor every id: split so (rank r: the r-th of P
+// runs of the set, spread over the ball; LAMMPS sends each to the rank whose
+// sub-domain holds it), the finish ends as from the whole set.
 TEST_CASE("lammps engine: the finish takes the set split over the ranks, each id once") {
   if (!lammps_available()) return;
   const ScalarGrid field = test::ball_field(kBall, kR / 3);
   const std::vector<Particle> start = lattice(1.5 * kR);
   const MpiWorld world = lammps_mpi_start();
-  std::vector<Particle> mine;
-  std::vector<uint64_t> ids;
-  for (size_t i = 0; i < start.size(); ++i) {
-    ids.push_back(start[i].id);
-    if (static_cast<int>(i % static_cast<size_t>(world.size)) == world.rank) mine.push_back(start[i]);
-  }
+  const size_t ranks = static_cast<size_t>(world.size), rank = static_cast<size_t>(world.rank);
+  SetShare share;
+  share.first = start.size() * rank / ranks, share.total = start.size();
+  const std::vector<Particle> mine(start.begin() + static_cast<ptrdiff_t>(share.first),
+                                   start.begin() + static_cast<ptrdiff_t>(start.size() * (rank + 1) / ranks));
   FinishSettings s;
   s.radius = kR;
   s.max_overlap = 0.001;
@@ -174,7 +174,7 @@ TEST_CASE("lammps engine: the finish takes the set split over the ranks, each id
   FinishStats split_stats, whole_stats;
   const std::shared_ptr<ProcessGroup> group = lammps_process_group();
   const ParticleSet split =
-      gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, mine, ids, s, split_stats), true);
+      gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, mine, share, s, split_stats), true);
   const ParticleSet whole =
       gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, start, s, whole_stats), true);
   INFO("split " << split.size() << " (" << split_stats.removed << " deleted), whole " << whole.size() << " ("

@@ -223,26 +223,23 @@ class FillRun {
       return;
     }
     // Each process hands the finish its own particles (one process: all);
-    // split over processes, with the whole set's ids in order (8 B each).
+    // split over processes, at places in process order (SetShare).
     LocalView handed = engine_->local_view(0);
     std::vector<Particle> ps = std::move(handed.particles);
     ps.resize(handed.own);
-    std::vector<uint64_t> ids;
-    if (!handed.complete()) {
-      for (const Particle& p : ps) ids.push_back(p.id);
-      engine_->gather_over_processes(ids);
-    }
+    const SetShare share =
+        handed.complete() ? SetShare{} : share_over_processes(*engine_, ps.size(), handed.region, false);
     // (the verify reaches the other processes through it once the engines are gone)
     std::shared_ptr<ProcessGroup> group = engine_->process_group();
     engine_.reset();  // the finish holds the particles from here on
-    reporter_.report(ids.empty() ? ps.size() : ids.size(), 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
+    reporter_.report(share.total == 0 ? ps.size() : share.total, 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
     FinishStats stats;
     auto progress = [&](size_t n, uint32_t pairs) {
       relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
       reporter_.report(n, 0, pairs, fill_steps_ + relax_steps_, relax_steps_);
     };
     particles_ = device_ ? finish_packing(*device_, params_, field_, std::move(ps), finish_settings(), stats, progress)
-                         : finish_packing(o_.engine, params_, field_, std::move(ps), ids, finish_settings(), stats,
+                         : finish_packing(o_.engine, params_, field_, std::move(ps), share, finish_settings(), stats,
                                           progress);
     relax_steps_ = stats.steps;
     field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field

@@ -327,15 +327,14 @@ std::vector<size_t> FillPasses::wave_sites() {
 /// draws depend on its place in the wave and its site, not on the ranks.
 int FillPasses::add_wave(const std::vector<size_t>& chosen) {
   if (chosen.empty()) return 0;
-  std::vector<uint64_t> ids(chosen.size());
   std::vector<Particle> mine;
+  std::vector<size_t> places;
   for (size_t j = 0; j < chosen.size(); ++j) {
-    ids[j] = next_id_ + j;
     const Vec3& at = site_position(chosen[j]);
-    if (view_.decides(at)) mine.push_back(newborn(at, plan_.radius, chosen[j], ids[j]));
+    if (view_.decides(at)) mine.push_back(newborn(at, plan_.radius, chosen[j], next_id_ + j)), places.push_back(j);
   }
   next_id_ += chosen.size();
-  newest_ = engine_.add_decided_particles(mine, ids) + chosen.size() - 1;
+  newest_ = engine_.add_decided_particles(mine, places, chosen.size()) + chosen.size() - 1;
   return static_cast<int>(chosen.size());
 }
 
@@ -463,8 +462,8 @@ void FillPasses::follow_newest_through_removals(const std::vector<size_t>& remov
 /// scatter them through memory, and near in space near in memory makes
 /// every kernel of a step read from cache.
 void FillPasses::renumber_along_cells() {
-  const std::vector<size_t> order = engine_.sort_by_cells();
-  if (newest_ != Engine::kGone)
+  const std::vector<size_t> order = engine_.sort_by_cells();  // (empty: the indices stay)
+  if (newest_ != Engine::kGone && !order.empty())
     newest_ = static_cast<size_t>(std::find(order.begin(), order.end(), newest_) - order.begin());
   next_sort_ = engine_.steps_done() + static_cast<uint64_t>(o_.sort_every);
 }

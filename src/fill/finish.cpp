@@ -101,14 +101,14 @@ class Finisher {
     give_wall(*engine_);
   }
 
-  /// `ids` empty: `ps` is the whole set; else this process's share of the
-  /// set whose ids, in order, are `ids`.
-  ParticleSet run(std::vector<Particle> ps, const std::vector<uint64_t>& ids) {
+  /// `share` empty (no total): `ps` is the whole set; else this process's
+  /// share of the set.
+  ParticleSet run(std::vector<Particle> ps, const SetShare& share) {
     if (s_.sizes) {
       sizes_.emplace(*s_.sizes);
       sizes_->set_caps(s_.size_caps);
     }
-    upload(std::move(ps), ids);
+    upload(std::move(ps), share);
     int holes_done = 0;
     bool compressing = s_.compress_clearance > 0;
     size_t last_inserted = 0, deleted_since_insert = 0;
@@ -173,7 +173,7 @@ class Finisher {
 
  private:
   /// The spheres onto the engine, at rest, at the engine's radius.
-  void upload(std::vector<Particle> ps, const std::vector<uint64_t>& ids) {
+  void upload(std::vector<Particle> ps, const SetShare& share) {
     for (Particle& p : ps) {
       p.velocity = {};
       p.radius = sizes_ ? p.radius - shrink_ : engine_radius_;
@@ -181,10 +181,10 @@ class Finisher {
       // left the large spheres slow to give way.
       p.mass = 1;
     }
-    if (ids.empty()) {
+    if (share.total == 0) {
       engine_->add_particles(ps);
     } else {
-      engine_->add_decided_particles(ps, ids);
+      engine_->add_decided_particles(ps, places_of(share, ps.size()), share.total);
     }
   }
 
@@ -214,16 +214,14 @@ class Finisher {
   /// Newcomers onto the engine, numbered from next_id_ over every process
   /// in order; returns how many over all.
   size_t add_newcomers(std::vector<Particle>& newcomers) {
-    std::vector<uint64_t> all;
-    const std::vector<uint64_t> ids = batch_ids(*engine_, view_, newcomers.size(), next_id_, all);
-    for (size_t k = 0; k < newcomers.size(); ++k) newcomers[k].id = ids[k];
+    const SetShare share = batch_ids(*engine_, view_, newcomers, next_id_);
     if (view_.complete()) {
       engine_->add_particles(newcomers);
     } else {
-      engine_->add_decided_particles(newcomers, all);
+      engine_->add_decided_particles(newcomers, places_of(share, newcomers.size()), share.total);
     }
-    stats_.inserted += all.size();
-    return all.size();
+    stats_.inserted += share.total;
+    return share.total;
   }
 
   /// After the last relaxation: holes a sphere fits in without overlap (a
@@ -478,11 +476,11 @@ ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(c
 
 ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
                            const EngineParams& base, const ScalarGrid& field, std::vector<Particle> mine,
-                           const std::vector<uint64_t>& ids, const FinishSettings& settings, FinishStats& stats,
+                           const SetShare& share, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress) {
   Finisher f(make, base, field, settings, stats);
   f.set_progress(progress);
-  return f.run(std::move(mine), ids);
+  return f.run(std::move(mine), share);
 }
 
 }  // namespace pfill

@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include "fill/finish_view.hpp"
 #include "pfill/engine/engine.hpp"
 #include "pfill/grid.hpp"
 #include "pfill/particles.hpp"
@@ -125,12 +126,11 @@ ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(c
 
 /// The same with the set split over the processes that share the engines
 /// (issue 31: LAMMPS at P > 1 ranks): `mine` is this process's share of
-/// the set whose ids, in order, are `ids` (every process gives the same
-/// `ids`, each member in exactly one `mine`: add_decided_particles), so no
-/// process is handed the whole set.
+/// the set, at `share`'s places, so no process is handed the whole set, nor
+/// its ids.
 ParticleSet finish_packing(const std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)>& make,
                            const EngineParams& base, const ScalarGrid& field, std::vector<Particle> mine,
-                           const std::vector<uint64_t>& ids, const FinishSettings& settings, FinishStats& stats,
+                           const SetShare& share, const FinishSettings& settings, FinishStats& stats,
                            const std::function<void(size_t, uint32_t)>& progress = {});
 
 /// The automatic inflation for a bound (fraction of r): a relaxed pair

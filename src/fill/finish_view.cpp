@@ -92,21 +92,28 @@ std::vector<Vec3> holes_decided_here(ParticleEngine& engine, const FinishView& v
   return out;
 }
 
-std::vector<uint64_t> batch_ids(ParticleEngine& engine, const FinishView& view, size_t mine, uint64_t& next,
-                                std::vector<uint64_t>& all) {
+SetShare share_over_processes(ParticleEngine& engine, size_t mine, int region, bool complete) {
   std::vector<uint64_t> counts{mine};
-  if (!view.complete()) engine.gather_over_processes(counts);
-  uint64_t before = 0, total = 0;
+  if (!complete) engine.gather_over_processes(counts);
+  SetShare share;
   for (size_t r = 0; r < counts.size(); ++r) {
-    if (static_cast<int>(r) < view.region) before += counts[r];
-    total += counts[r];
+    if (static_cast<int>(r) < region) share.first += counts[r];
+    share.total += counts[r];
   }
-  all.resize(static_cast<size_t>(total));
-  for (size_t k = 0; k < all.size(); ++k) all[k] = next + k;
-  std::vector<uint64_t> own(all.begin() + static_cast<ptrdiff_t>(before),
-                            all.begin() + static_cast<ptrdiff_t>(before + mine));
-  next += total;
-  return own;
+  return share;
+}
+
+SetShare batch_ids(ParticleEngine& engine, const FinishView& view, std::vector<Particle>& mine, uint64_t& next) {
+  const SetShare share = share_over_processes(engine, mine.size(), view.region, view.complete());
+  for (size_t k = 0; k < mine.size(); ++k) mine[k].id = next + share.first + k;
+  next += share.total;
+  return share;
+}
+
+std::vector<size_t> places_of(const SetShare& share, size_t n) {
+  std::vector<size_t> places(n);
+  for (size_t k = 0; k < n; ++k) places[k] = share.first + k;
+  return places;
 }
 
 }  // namespace pfill

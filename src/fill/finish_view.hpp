@@ -59,10 +59,26 @@ std::vector<size_t> picked_everywhere(ParticleEngine& engine, const FinishView& 
 std::vector<Vec3> holes_decided_here(ParticleEngine& engine, const FinishView& view, std::vector<Vec3> holes,
                                      std::vector<double>& gaps, double clearance);
 
+/// A process's share of a set split over the processes (issue 31): its
+/// members are the set's places [first, first + its count) of `total`, in
+/// process order (ParticleEngine::add_decided_particles). No total: one
+/// process holds the whole set.
+struct SetShare {
+  size_t first = 0, total = 0;
+};
+
+/// This process's share of a set of which it holds `mine` at `region`
+/// (its place among the processes), from every process's count (one
+/// gather of a word a process; collective). One process: the whole set.
+SetShare share_over_processes(ParticleEngine& engine, size_t mine, int region, bool complete);
+
 /// Ids for a batch of which this process gives `mine`: consecutive from
-/// `next` over the processes in order; `all` gets the whole batch's, and
-/// `next` moves past them. Returns this process's.
-std::vector<uint64_t> batch_ids(ParticleEngine& engine, const FinishView& view, size_t mine, uint64_t& next,
-                                std::vector<uint64_t>& all);
+/// `next` over the processes in order, set in `mine`; `next` moves past
+/// the whole batch. Returns this process's places in the batch.
+SetShare batch_ids(ParticleEngine& engine, const FinishView& view, std::vector<Particle>& mine, uint64_t& next);
+
+/// The places [share.first, share.first + n).
+std::vector<size_t> places_of(const SetShare& share, size_t n);
+
 
 }  // namespace pfill

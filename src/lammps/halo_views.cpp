@@ -7,6 +7,8 @@
 #include <utility>
 #include <vector>
 
+#include "lammps/atom_indices.hpp"
+
 namespace pfill {
 namespace lammps_engine {
 namespace {
@@ -40,7 +42,7 @@ double gap(const Box3& a, const Box3& b) {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-/// x, y, z, radius (and, with `tags`, the tag) of each own atom within
+/// x, y, z, radius (and, with `tags`, the tag and the id) of each own atom within
 /// `reach` of another rank's sub-domain, per rank. Atoms deeper than
 /// `reach` inside this rank's own sub-domain are no other rank's concern
 /// (the sub-domains tile the box).
@@ -50,6 +52,7 @@ std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vec
   double** x = s.atoms<double**>("x");
   double* radius = s.atoms<double*>("radius");
   int* tag = s.atoms<int*>("id");
+  const AtomIndices own(s);
   // Atoms may have left the sub-domain since LAMMPS' last exchange: the
   // ranks near any of them, from the box of the sub-domain and its atoms.
   Box3 spread = boxes[static_cast<size_t>(me)];
@@ -65,7 +68,7 @@ std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vec
       if (distance_to_box(boxes[static_cast<size_t>(r)], p) <= reach) {
         std::vector<double>& o = out[static_cast<size_t>(r)];
         o.insert(o.end(), {p.x, p.y, p.z, radius[i]});
-        if (tags) o.push_back(tag[i]);
+        if (tags) o.insert(o.end(), {static_cast<double>(tag[i]), own.id[i]});
       }
   }
   return out;
@@ -107,46 +110,38 @@ BirthView birth_halo(const LammpsSession& s, double reach) {
   return view;
 }
 
-LocalView local_halo(const LammpsSession& s, const ParticleBook& book, const EngineParams& params, double reach) {
+LocalView local_halo(const LammpsSession& s, const EngineParams& params, double reach) {
   LocalView view;
   view.regions = all_subdomains(s);
   view.region = s.rank();
   const std::vector<double> got = exchange_rows(s, outgoing(s, view.regions, reach, true));
-  const int nl = s.nlocal();
   int* tag = s.atoms<int*>("id");
   double** x = s.atoms<double**>("x");
   double** v = s.atoms<double**>("v");
   double* radius = s.atoms<double*>("radius");
+  const AtomIndices ids(s);
   // Own atoms in the order of the engine's indices: the same decisions
   // whatever order LAMMPS keeps them in.
-  std::vector<std::pair<size_t, int>> own;
-  own.reserve(static_cast<size_t>(nl));
-  for (int i = 0; i < nl; ++i) {
-    const size_t index = book.index_of(tag[i]);
-    if (index != book.size()) own.push_back({index, i});
-  }
-  std::sort(own.begin(), own.end());
+  const std::vector<std::pair<size_t, int>> own = own_by_index(s);
   view.own = own.size();
-  view.particles.reserve(own.size() + got.size() / 5);
+  view.particles.reserve(own.size() + got.size() / 6);
   for (const auto& [index, i] : own) {
     Particle p;
     p.position = {x[i][0], x[i][1], x[i][2]};
     p.velocity = {v[i][0], v[i][1], v[i][2]};
     p.radius = radius[i];
     p.mass = particle_mass(params, p.radius);
-    p.id = book.id(index);
+    p.id = ids.id_of(i);
     view.particles.push_back(p);
     view.indices.push_back(index);
     view.keys.push_back(static_cast<uint64_t>(tag[i]));
   }
-  for (size_t k = 0; k + 4 < got.size(); k += 5) {
-    const size_t index = book.index_of(static_cast<int>(got[k + 4]));
-    if (index == book.size()) continue;
+  for (size_t k = 0; k + 5 < got.size(); k += 6) {
     Particle p;
     p.position = {got[k], got[k + 1], got[k + 2]};
     p.radius = got[k + 3];
     p.mass = particle_mass(params, p.radius);
-    p.id = book.id(index);
+    p.id = static_cast<uint64_t>(got[k + 5]);
     view.particles.push_back(p);
     view.keys.push_back(static_cast<uint64_t>(got[k + 4]));
   }

@@ -12,7 +12,6 @@
 #pragma once
 #ifdef PFILL_WITH_LAMMPS
 #include "lammps/lammps_session.hpp"
-#include "lammps/particle_book.hpp"
 #include "pfill/engine/birth_view.hpp"
 #include "pfill/engine/local_view.hpp"
 
@@ -25,9 +24,9 @@ namespace lammps_engine {
 BirthView birth_halo(const LammpsSession& s, double reach);
 
 /// The same for the finish: this rank's atoms whole, in the order of the
-/// engine's indices (`book`), then the halo's (positions, radii, ids);
+/// engine's indices (atom_indices.hpp), then the halo's (positions, radii, ids);
 /// keys are LAMMPS tags. Collective.
-LocalView local_halo(const LammpsSession& s, const ParticleBook& book, const EngineParams& params, double reach);
+LocalView local_halo(const LammpsSession& s, const EngineParams& params, double reach);
 
 }  // namespace lammps_engine
 }  // namespace pfill

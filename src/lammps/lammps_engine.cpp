@@ -6,27 +6,31 @@
 // external pf/callback` on each rank's own atoms (step_callback.hpp). This
 // file is the engine class: it ties
 // together the LAMMPS instance (lammps_session.hpp), the settings handed
-// to it (lammps_settings.hpp), the engine's indices (particle_book.hpp),
+// to it (lammps_settings.hpp), the engine's indices (particle_book.hpp,
+// atom_indices.hpp),
 // that callback and the reads over ranks (engine_reads.hpp): births,
 // removals, runs.
 //
 // SPMD: every rank makes the same calls with the same arguments (the fill's
-// host loop runs on every rank), so the engine's bookkeeping of indices and
-// ids is the same everywhere; a wave's births are booked on every rank but
-// each rank creates only those it decided, in its sub-domain
-// (add_decided_particles); reads and records are reductions. The births'
-// room test sees only this rank's atoms and a halo (birth_view).
+// host loop runs on every rank), so the engine's count and tags are the
+// same everywhere; each atom carries its index and id (atom_indices.hpp),
+// so no rank keeps a record of every particle; each rank creates only the
+// births it decided, in its sub-domain (add_decided_particles); reads and
+// records are reductions. The births' room test sees only this rank's
+// atoms and a halo (birth_view).
 #ifdef PFILL_WITH_LAMMPS
 #include <algorithm>
 #include <functional>
 #include <memory>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 #include <vector>
 
-#include "lammps/halo_views.hpp"
+#include "lammps/atom_indices.hpp"
 #include "lammps/birth_tally.hpp"
+#include "lammps/halo_views.hpp"
 #include "lammps/engine_reads.hpp"
 #include "lammps/lammps_session.hpp"
 #include "lammps/lammps_settings.hpp"
@@ -100,52 +104,73 @@ class LammpsEngine final : public ParticleEngine {
       const std::string e = particle_error(p);
       if (!e.empty()) throw Error(e);
     }
-    const std::vector<int> tags = book_.new_tags(ps.size());
+    const int first_tag = book_.new_tags(ps.size());
     lammps_engine::NewAtoms atoms;
-    for (size_t k = 0; k < ps.size(); ++k) atoms.add(tags[k], ps[k], mass_of(ps[k]));
-    create(atoms, ps.size());  // each rank keeps those in its sub-domain
-    for (size_t k = 0; k < ps.size(); ++k) book_.append(tags[k], ps[k].id);
+    for (size_t k = 0; k < ps.size(); ++k) atoms.add(first_tag + static_cast<int>(k), ps[k], mass_of(ps[k]));
+    create(atoms, ps.size(), first_tag, first);  // each rank keeps those in its sub-domain
+    book_.added(ps.size());
     dirty_ = true;
     return first;
   }
 
-  /// Each rank passes lammps_create_atoms only the births it decided (its
-  /// sub-domain's); every rank books every member's tag and id, in the
-  /// order of `ids`, so the indices stay the same everywhere.
-  size_t add_decided_particles(const std::vector<Particle>& mine, const std::vector<uint64_t>& ids) override {
+  /// Each rank passes lammps_create_atoms only the members it decided (its
+  /// sub-domain's), each with its tag and index from its place in the
+  /// batch; no rank sees the whole batch.
+  size_t add_decided_particles(const std::vector<Particle>& mine, const std::vector<size_t>& places,
+                               size_t count) override {
     flush();
     const size_t first = book_.size();
-    if (ids.empty()) return first;
-    std::unordered_map<uint64_t, size_t> slot;  // id -> its place in the batch
-    for (size_t k = 0; k < ids.size(); ++k) slot.emplace(ids[k], k);
+    if (count == 0) return first;
     if (!box_made_) make_box(bounds_over_ranks(mine));
     // Each rank checks its own; an error any rank meets ends every rank alike.
     std::string error;
-    for (const Particle& p : mine) {
-      if (error.empty()) error = particle_error(p);
-      if (error.empty() && !slot.count(p.id))
-        error = "lammps engine: a birth's id " + std::to_string(p.id) + " is not one of its batch's";
+    if (places.size() != mine.size())
+      error = "lammps engine: " + std::to_string(mine.size()) + " particles given with " +
+              std::to_string(places.size()) + " places";
+    for (size_t k = 0; k < mine.size() && error.empty(); ++k) {
+      error = particle_error(mine[k]);
+      if (error.empty() && places[k] >= count)
+        error = "lammps engine: a place " + std::to_string(places[k]) + " past its batch of " + std::to_string(count);
     }
     lmp_->throw_if_any(error);
-    const std::vector<int> tags = book_.new_tags(ids.size());
+    const int first_tag = book_.new_tags(count);
     lammps_engine::NewAtoms atoms;
-    for (const Particle& p : mine) atoms.add(tags[slot[p.id]], p, mass_of(p));
+    for (size_t k = 0; k < mine.size(); ++k)
+      atoms.add(first_tag + static_cast<int>(places[k]), mine[k], mass_of(mine[k]));
     atoms.sort_by_tag();
     lammps_engine::BirthTally& tally = lammps_engine::birth_tally();
     tally.outside += lammps_engine::share_strays(*lmp_, atoms);
-    tally.batches += 1, tally.newborns += ids.size(), tally.passed += atoms.size();
-    create(atoms, ids.size());
-    for (size_t k = 0; k < ids.size(); ++k) book_.append(tags[k], ids[k]);
+    tally.batches += 1, tally.newborns += count, tally.passed += atoms.size();
+    create(atoms, count, first_tag, first);
+    book_.added(count);
     dirty_ = true;
     return first;
   }
 
+  /// The book says who goes and who moves (the last into each hole); each
+  /// rank finds them among its own atoms.
   void remove_particles(std::vector<size_t> indices) override {
     flush();
-    const std::vector<int> gone = book_.remove(std::move(indices));
-    if (gone.empty()) return;
-    lmp_->delete_atoms(gone);
-    for (int t : gone) step_.flagged_tags().erase(t), book_.lost().erase(t);
+    const lammps_engine::Removal r = book_.remove(std::move(indices));
+    if (r.gone.empty()) return;
+    const std::unordered_set<size_t> gone(r.gone.begin(), r.gone.end());
+    const std::unordered_map<size_t, size_t> moves(r.moves.begin(), r.moves.end());
+    const lammps_engine::AtomIndices own(*lmp_);
+    const int* tag = lmp_->atoms<int*>("id");
+    std::vector<double> mine;
+    for (int i = 0; i < own.count; ++i) {
+      const size_t index = static_cast<size_t>(own.index[i]);
+      if (gone.count(index)) {
+        mine.push_back(tag[i]);
+      } else if (const auto m = moves.find(index); m != moves.end()) {
+        own.index[i] = static_cast<int>(m->second);
+      }
+    }
+    std::vector<int> tags;  // the same on every rank (the lost are on none)
+    for (double t : lmp_->gather(mine)) tags.push_back(static_cast<int>(t));
+    std::sort(tags.begin(), tags.end());
+    if (!tags.empty()) lmp_->delete_atoms(tags);
+    for (int t : tags) step_.flagged_tags().erase(t);
     dirty_ = true;
   }
 
@@ -161,23 +186,22 @@ class LammpsEngine final : public ParticleEngine {
 
   std::vector<Particle> read_particles() override {
     flush();
-    return lammps_engine::gather_particles(*lmp_, book_, params_, box_.centre());
+    return lammps_engine::gather_particles(*lmp_, book_.size(), params_, box_.centre());
   }
 
   std::vector<size_t> sort_by_cells() override {
     // LAMMPS keeps its own atoms in spatial order (atom_modify sort); the
-    // engine's indices are its own and stay. FIRE's records in flight are
-    // taken in, as the OpenCL engine finishes its steps in flight to sort.
+    // engine's indices are its own and stay (no order returned). FIRE's
+    // records in flight are taken in, as the OpenCL engine finishes its
+    // steps in flight to sort.
     flush();
     step_.fire().take_in_flight(steps_);
-    std::vector<size_t> order(book_.size());
-    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
-    return order;
+    return {};
   }
 
   std::vector<size_t> flagged_particles() override {
     flush();
-    return lammps_engine::gather_flagged(*lmp_, book_, step_.flagged_tags());
+    return lammps_engine::gather_flagged(*lmp_, book_.size(), step_.flagged_tags());
   }
 
   void clear_flags() override { step_.flagged_tags().clear(); }
@@ -195,7 +219,7 @@ class LammpsEngine final : public ParticleEngine {
   LocalView local_view(double reach) override {
     flush();
     if (lmp_->ranks() == 1) return ParticleEngine::local_view(reach);
-    return lammps_engine::local_halo(*lmp_, book_, params_, reach);
+    return lammps_engine::local_halo(*lmp_, params_, reach);
   }
 
   void sum_over_processes(std::vector<int>& counts) override {
@@ -293,9 +317,10 @@ class LammpsEngine final : public ParticleEngine {
     return Box3{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
   }
 
-  /// Creates the atoms (collective); `n`: how many the ranks meant to create.
-  void create(const lammps_engine::NewAtoms& atoms, size_t n) {
-    const int made = lammps_engine::create_new_atoms(*lmp_, atoms);
+  /// Creates the atoms (collective); `n`: how many the ranks meant to
+  /// create, with tags from first_tag and indices from first_index.
+  void create(const lammps_engine::NewAtoms& atoms, size_t n, int first_tag, size_t first_index) {
+    const int made = lammps_engine::create_new_atoms(*lmp_, atoms, first_tag, first_index);
     if (made != static_cast<int>(n))
       throw Error("lammps engine: " + std::to_string(n) + " particles given, " + std::to_string(made) + " created");
   }
@@ -308,7 +333,7 @@ class LammpsEngine final : public ParticleEngine {
   EngineConstants constants_;
   std::unique_ptr<LammpsSession> lmp_;
   StepCallback step_;  // after lmp_: it holds a reference to it
-  ParticleBook book_;  // the engine's indices, the same on every rank
+  ParticleBook book_;  // the count and the next tag, the same on every rank
   bool box_made_ = false;
   Box3 box_;
   double lo_[3] = {0, 0, 0}, hi_[3] = {0, 0, 0};

@@ -1,10 +1,11 @@
 // A batch of births as one rank hands it to LAMMPS (docs/lammps_engine.md
 // "Indices, ids, births and removals"): each atom's tag, position,
-// velocity, radius and mass; atoms decided on a sub-domain that has since
+// velocity, radius, mass and caller's id; atoms decided on a sub-domain that has since
 // moved sent on to every rank; the atoms created, and the radius and mass
 // set of those this rank keeps (lammps_create_atoms gives 0.5 and density 1).
 #pragma once
 #ifdef PFILL_WITH_LAMMPS
+#include <cstdint>
 #include <vector>
 
 #include "lammps/lammps_session.hpp"
@@ -17,6 +18,7 @@ struct NewAtoms {
   std::vector<int> tags;          ///< ascending (lammps_create_atoms keeps this order per rank)
   std::vector<double> x, v;       ///< 3 each
   std::vector<double> radius, mass;
+  std::vector<uint64_t> ids;      ///< Particle::id
 
   size_t size() const { return tags.size(); }
   void add(int tag, const Particle& p, double m);
@@ -34,9 +36,11 @@ size_t outside_subdomain(const LammpsSession& s, const NewAtoms& atoms);
 /// sent. Collective (one MPI_Allreduce; an MPI_Allgatherv where any).
 size_t share_strays(const LammpsSession& s, NewAtoms& atoms);
 
-/// Creates the atoms (collective) and sets radius and mass of those this
-/// rank keeps; returns how many were created over all ranks.
-int create_new_atoms(LammpsSession& s, const NewAtoms& atoms);
+/// Creates the atoms (collective) and sets radius, mass, index and id of
+/// those this rank keeps (atom_indices.hpp): the batch's tags run from
+/// first_tag, its indices from first_index in the same order. Returns how
+/// many were created over all ranks.
+int create_new_atoms(LammpsSession& s, const NewAtoms& atoms, int first_tag, size_t first_index);
 
 }  // namespace lammps_engine
 }  // namespace pfill

@@ -1,9 +1,10 @@
-// The LAMMPS engine's indices, tags and ids: see particle_book.hpp.
+// The LAMMPS engine's indices and tags: see particle_book.hpp.
 #include "lammps/particle_book.hpp"
 
 #include <algorithm>
 #include <functional>
 #include <limits>
+#include <map>
 #include <string>
 
 #include "pfill/error.hpp"
@@ -11,45 +12,40 @@
 namespace pfill {
 namespace lammps_engine {
 
-std::vector<int> ParticleBook::new_tags(size_t n) {
+int ParticleBook::new_tags(size_t n) {
   // LAMMPS' atom ids are 32-bit in this build (tagint int): past 2^31 - 1
   // ids it would stop the program; the fill births more than it keeps.
-  const int64_t last = next_tag_ + static_cast<int64_t>(n) - 1;
+  const int64_t first = next_tag_, last = next_tag_ + static_cast<int64_t>(n) - 1;
   if (last > std::numeric_limits<int>::max())
     throw Error("lammps engine: more than 2,147,483,647 particles born over the fill, past LAMMPS' 32-bit atom ids");
-  std::vector<int> tags(n);
-  for (int& t : tags) t = static_cast<int>(next_tag_++);
-  return tags;
+  next_tag_ += static_cast<int64_t>(n);
+  return static_cast<int>(first);
 }
 
-void ParticleBook::append(int tag, uint64_t id) {
-  index_of_[tag] = order_.size();
-  order_.push_back(tag);
-  ids_.push_back(id);
-}
-
-std::vector<int> ParticleBook::remove(std::vector<size_t> indices) {
+Removal ParticleBook::remove(std::vector<size_t> indices) {
   std::sort(indices.begin(), indices.end(), std::greater<size_t>());
   indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
-  std::vector<int> gone;
+  if (!indices.empty() && indices.front() >= size_)
+    throw Error("lammps engine: cannot remove particle " + std::to_string(indices.front()) + " of " +
+                std::to_string(size_));
+  // The swaps on indices alone: who sits where the last ones went (a place
+  // not in the map holds its own particle).
+  std::map<size_t, size_t> holder;
+  auto at = [&holder](size_t place) {
+    const auto it = holder.find(place);
+    return it == holder.end() ? place : it->second;
+  };
   for (size_t idx : indices) {
-    if (idx >= order_.size()) throw Error("lammps engine: cannot remove particle " + std::to_string(idx));
-    const int tag = order_[idx];
-    gone.push_back(tag);
-    index_of_.erase(tag);
-    order_[idx] = order_.back();
-    ids_[idx] = ids_.back();
-    order_.pop_back();
-    ids_.pop_back();
-    if (idx < order_.size()) index_of_[order_[idx]] = idx;
+    const size_t last = size_ - 1, moving = at(last);
+    holder.erase(last);
+    if (idx != last) holder[idx] = moving;
+    --size_;
   }
-  std::sort(gone.begin(), gone.end());
-  return gone;
-}
-
-size_t ParticleBook::index_of(int tag) const {
-  auto it = index_of_.find(tag);
-  return it == index_of_.end() ? order_.size() : it->second;
+  Removal r;
+  r.gone.assign(indices.rbegin(), indices.rend());
+  for (const auto& [place, original] : holder)
+    if (place != original) r.moves.push_back({original, place});
+  return r;
 }
 
 }  // namespace lammps_engine

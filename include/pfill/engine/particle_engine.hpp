@@ -60,18 +60,16 @@ class ParticleEngine {
   /// Appends particles; returns the index of the first.
   virtual size_t add_particles(const std::vector<Particle>& particles) = 0;
   size_t add_particle(const Particle& p) { return add_particles({p}); }
-  /// Appends a batch of births split over the processes that share this
-  /// engine (issue 31): `ids` names the whole batch in order, the same on
-  /// every process; `mine` holds the members this process decided (its
-  /// BirthView), each member given by exactly one process. The batch gets
-  /// consecutive indices in the order of `ids`; returns the first. One
-  /// process (the default): `mine` is the whole batch, in that order.
-  virtual size_t add_decided_particles(const std::vector<Particle>& mine, const std::vector<uint64_t>& ids) {
-    if (mine.size() != ids.size())
-      throw Error("engine: " + std::to_string(ids.size()) + " births named, " + std::to_string(mine.size()) +
-                  " given; one process must give them all");
-    return add_particles(mine);
-  }
+  /// Appends a batch of `count` particles split over the processes that
+  /// share this engine (issue 31: births, the finish's hand-over and its
+  /// newcomers). `mine` holds the members this process decided (its
+  /// BirthView or LocalView), with their ids; `places[k]` is mine[k]'s
+  /// place in the batch, each place given by exactly one process. The batch
+  /// gets consecutive indices in the order of its places; returns the
+  /// first. No process is given the whole batch's ids. One process (the
+  /// default): `mine` is the whole batch.
+  virtual size_t add_decided_particles(const std::vector<Particle>& mine, const std::vector<size_t>& places,
+                                       size_t count);
   /// Removes particles by index, largest first, each swapped with the last.
   virtual void remove_particles(std::vector<size_t> indices) = 0;
   /// Runs (or enqueues) k steps.
@@ -81,7 +79,8 @@ class ParticleEngine {
   /// All particles: positions, velocities, radii, masses, ids.
   virtual std::vector<Particle> read_particles() = 0;
   /// Renumbers the particles for locality where the engine gains by it;
-  /// returns new index -> old index.
+  /// returns new index -> old index, or nothing where the indices stay
+  /// (an engine that keeps its own order: LAMMPS).
   virtual std::vector<size_t> sort_by_cells() = 0;
   /// Indices of particles flagged outside the field since the last clear_flags().
   virtual std::vector<size_t> flagged_particles() = 0;
