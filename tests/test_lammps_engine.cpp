@@ -293,6 +293,18 @@ TEST_CASE("lammps engine: what LAMMPS would stop the program on is refused first
     lmp->run_steps(2);
     CHECK(lmp->read_particles().size() == 1);
   }
+  SUBCASE("an id past what the atom's id property holds exactly (2^53)") {
+    std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(small_params());
+    Particle q;
+    q.radius = 0.05;
+    q.id = (uint64_t{1} << 53) + 1;
+    CHECK_THROWS_WITH_AS(lmp->add_particles({q}), doctest::Contains("is past 2^53"), Error);
+    CHECK_THROWS_WITH_AS(lmp->add_decided_particles({q}, {0}, 1), doctest::Contains("is past 2^53"), Error);
+    CHECK(lmp->size() == 0);
+    q.id = uint64_t{1} << 53;  // the largest it takes, kept exactly
+    CHECK(lmp->add_particles({q}) == 0);
+    CHECK(lmp->read_particles()[0].id == q.id);
+  }
 }
 
 TEST_CASE("lammps engine: a small fill of a sphere, the finish on LAMMPS too") {

@@ -16,6 +16,9 @@
 namespace pfill {
 namespace lammps_engine {
 
+/// The largest caller's id an atom carries exactly (2^53: a double's integers).
+constexpr uint64_t kLargestAtomId = uint64_t{1} << 53;
+
 /// The command that gives every atom the two properties (before any atom exists).
 const char* atom_index_fix();
 

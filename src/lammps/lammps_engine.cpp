@@ -295,6 +295,9 @@ class LammpsEngine final : public ParticleEngine {
     if (!finite(p)) return "lammps engine: a particle's position or velocity is not a finite number";
     if (!(p.radius > 0) || p.radius > constants_.max_radius * (1 + 1e-9))
       return "lammps engine: a particle's radius " + num(p.radius) + " is not in (0, max_radius]";
+    if (p.id > lammps_engine::kLargestAtomId)
+      return "lammps engine: a particle's id " + std::to_string(p.id) +
+             " is past 2^53, which the atom's id property (a double) cannot hold exactly; number the particles from 1";
     if (box_made_ && !inside_box(p.position))
       return "lammps engine: a particle at " + num(p.position.x) + "," + num(p.position.y) + "," +
              num(p.position.z) + " lies outside the engine's box";
