@@ -545,6 +545,32 @@ TEST_CASE("lammps engine: a fill's waves, each newborn created by the rank whose
   }
 }
 
+// A batch's places must be given once each over the ranks (two atoms with
+// one tag would stop LAMMPS at its next run): refused in one line on every
+// rank, before LAMMPS sees them, the engine unchanged.
+TEST_CASE("lammps engine: a batch whose places are not each given once is refused") {
+  if (!lammps_available()) return;
+  const ScalarGrid field = test::ball_field(0.5, 0.02);
+  std::unique_ptr<ParticleEngine> lmp = lattice_engine(field, lattice(0.5, 0.11, 5), 5);
+  const size_t before = lmp->size();
+  const MpiWorld world = lammps_mpi_start();
+  Particle a, b;
+  a.radius = b.radius = 0.05;
+  a.id = 7001, b.id = 7002;
+  b.position = {0.1, 0, 0};
+  std::vector<Particle> mine;
+  std::vector<size_t> places;
+  if (world.rank == 0) mine = {a, b}, places = {1, 1};  // place 0 missing, place 1 twice
+  CHECK_THROWS_WITH_AS(lmp->add_decided_particles(mine, places, 2), doctest::Contains("not each place once"), Error);
+  CHECK(lmp->size() == before);
+  if (world.rank == 0) places = {1, 0};
+  CHECK(lmp->add_decided_particles(mine, places, 2) == before);
+  const std::vector<Particle> out = lmp->read_particles();
+  REQUIRE(out.size() == before + 2);
+  CHECK(out[before].id == 7002);
+  CHECK(out[before + 1].id == 7001);
+}
+
 TEST_CASE("an engine of one process takes a birth batch whole, in its places' order") {
   ReferenceEngine ref(small_params());
   Particle a, b;

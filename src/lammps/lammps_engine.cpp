@@ -133,6 +133,7 @@ class LammpsEngine final : public ParticleEngine {
         error = "lammps engine: a place " + std::to_string(places[k]) + " past its batch of " + std::to_string(count);
     }
     lmp_->throw_if_any(error);
+    check_places_over_ranks(places, count);
     const int first_tag = book_.new_tags(count);
     lammps_engine::NewAtoms atoms;
     for (size_t k = 0; k < mine.size(); ++k)
@@ -318,6 +319,20 @@ class LammpsEngine final : public ParticleEngine {
     MPI_Allreduce(MPI_IN_PLACE, lo, 3, MPI_DOUBLE, MPI_MIN, lmp_->comm());
     MPI_Allreduce(MPI_IN_PLACE, hi, 3, MPI_DOUBLE, MPI_MAX, lmp_->comm());
     return Box3{{lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]}};
+  }
+
+  /// That the ranks' places name each of 0..count-1 once, by the sums of
+  /// the places, their squares and their count over the ranks (modulo
+  /// 2^64; one MPI_Allreduce), so that no rank needs every place: two
+  /// atoms with one tag would stop LAMMPS at the next run.
+  void check_places_over_ranks(const std::vector<size_t>& places, size_t count) const {
+    uint64_t sums[3] = {places.size(), 0, 0}, expected[3] = {count, 0, 0};
+    for (size_t p : places) sums[1] += p, sums[2] += static_cast<uint64_t>(p) * p;
+    for (uint64_t p = 0; p < count; ++p) expected[1] += p, expected[2] += p * p;
+    MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_UINT64_T, MPI_SUM, lmp_->comm());
+    if (sums[0] != expected[0] || sums[1] != expected[1] || sums[2] != expected[2])
+      throw Error("lammps engine: the ranks gave " + std::to_string(sums[0]) + " members of a batch of " +
+                  std::to_string(count) + ", not each place once");
   }
 
   /// Creates the atoms (collective); `n`: how many the ranks meant to
