@@ -326,9 +326,20 @@ class LammpsEngine final : public ParticleEngine {
   /// 2^64; one MPI_Allreduce), so that no rank needs every place: two
   /// atoms with one tag would stop LAMMPS at the next run.
   void check_places_over_ranks(const std::vector<size_t>& places, size_t count) const {
-    uint64_t sums[3] = {places.size(), 0, 0}, expected[3] = {count, 0, 0};
+    uint64_t sums[3] = {places.size(), 0, 0};
     for (size_t p : places) sums[1] += p, sums[2] += static_cast<uint64_t>(p) * p;
-    for (uint64_t p = 0; p < count; ++p) expected[1] += p, expected[2] += p * p;
+    // 0 + 1 + ... + (c - 1) = (c - 1) c / 2 and the sum of their squares
+    // (c - 1) c (2c - 1) / 6, modulo 2^64 as the sums: each division taken
+    // from the factor it divides before the products wrap.
+    uint64_t f[3] = {count - 1, count, 2 * count - 1};
+    const uint64_t sum = f[0] % 2 == 0 ? f[0] / 2 * f[1] : f[1] / 2 * f[0];
+    for (uint64_t d : {2, 3})
+      for (uint64_t& x : f)
+        if (x % d == 0) {
+          x /= d;
+          break;
+        }
+    const uint64_t expected[3] = {count, count == 0 ? 0 : sum, count == 0 ? 0 : f[0] * f[1] * f[2]};
     MPI_Allreduce(MPI_IN_PLACE, sums, 3, MPI_UINT64_T, MPI_SUM, lmp_->comm());
     if (sums[0] != expected[0] || sums[1] != expected[1] || sums[2] != expected[2])
       throw Error("lammps engine: the ranks gave " + std::to_string(sums[0]) + " members of a batch of " +
