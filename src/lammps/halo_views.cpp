@@ -42,12 +42,12 @@ double gap(const Box3& a, const Box3& b) {
   return std::sqrt(dx * dx + dy * dy + dz * dz);
 }
 
-/// x, y, z, radius (and, with `tags`, the tag and the id) of each own atom within
+/// x, y, z, radius (and, with `tags_and_ids`, the tag and the id) of each own atom within
 /// `reach` of another rank's sub-domain, per rank. Atoms deeper than
 /// `reach` inside this rank's own sub-domain are no other rank's concern
 /// (the sub-domains tile the box).
 std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vector<Box3>& boxes, double reach,
-                                          bool tags) {
+                                          bool tags_and_ids) {
   const int nl = s.nlocal(), me = s.rank();
   double** x = s.atoms<double**>("x");
   double* radius = s.atoms<double*>("radius");
@@ -68,7 +68,7 @@ std::vector<std::vector<double>> outgoing(const LammpsSession& s, const std::vec
       if (distance_to_box(boxes[static_cast<size_t>(r)], p) <= reach) {
         std::vector<double>& o = out[static_cast<size_t>(r)];
         o.insert(o.end(), {p.x, p.y, p.z, radius[i]});
-        if (tags) o.insert(o.end(), {static_cast<double>(tag[i]), own.id[i]});
+        if (tags_and_ids) o.insert(o.end(), {static_cast<double>(tag[i]), own.id[i]});
       }
   }
   return out;

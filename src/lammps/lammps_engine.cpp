@@ -108,8 +108,6 @@ class LammpsEngine final : public ParticleEngine {
     lammps_engine::NewAtoms atoms;
     for (size_t k = 0; k < ps.size(); ++k) atoms.add(first_tag + static_cast<int>(k), ps[k], mass_of(ps[k]));
     create(atoms, ps.size(), first_tag, first);  // each rank keeps those in its sub-domain
-    book_.added(ps.size());
-    dirty_ = true;
     return first;
   }
 
@@ -143,8 +141,6 @@ class LammpsEngine final : public ParticleEngine {
     tally.outside += lammps_engine::share_strays(*lmp_, atoms);
     tally.batches += 1, tally.newborns += count, tally.passed += atoms.size();
     create(atoms, count, first_tag, first);
-    book_.added(count);
-    dirty_ = true;
     return first;
   }
 
@@ -346,12 +342,15 @@ class LammpsEngine final : public ParticleEngine {
                   std::to_string(count) + ", not each place once");
   }
 
-  /// Creates the atoms (collective); `n`: how many the ranks meant to
-  /// create, with tags from first_tag and indices from first_index.
+  /// Creates the atoms (collective) and books them; `n`: how many the
+  /// ranks meant to create, with tags from first_tag and indices from
+  /// first_index (the book's next).
   void create(const lammps_engine::NewAtoms& atoms, size_t n, int first_tag, size_t first_index) {
     const int made = lammps_engine::create_new_atoms(*lmp_, atoms, first_tag, first_index);
     if (made != static_cast<int>(n))
       throw Error("lammps engine: " + std::to_string(n) + " particles given, " + std::to_string(made) + " created");
+    book_.added(n);
+    dirty_ = true;
   }
 
   bool inside_box(const Vec3& p) const {
