@@ -2,7 +2,8 @@
 # A small fill on the LAMMPS engine under mpirun -np NP (ctest: mpiNP.fill_lammps):
 # every sphere inside, overlaps within the 0.1% bound, the count near what the
 # OpenCL engine gives (a sphere at -n 300: about 300), one output file
-# written by rank 0; the same with births in waves, and with unequal spheres; at more than one rank, the same fill's output written
+# written by rank 0; the same with births in waves (their sites the same
+# at any rank count), and with unequal spheres; at more than one rank, the same fill's output written
 # per rank and joined back; and a bad option refused in one line before
 # LAMMPS starts on any rank.
 # Usage: mpi_fill.sh PFILL MPIRUN NP
@@ -51,6 +52,22 @@ count=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["metrics
 run "$pfill" fill --builtin sphere -n 300 --sites 0 --seed 1 --engine lammps -q -o "$tmp/waves.csv" \
   --report "$tmp/w.json" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
 check_report "waves" "$tmp/w.json" 240 345
+# The waves' sites are chosen per rank, each rank those of its own
+# sub-domain (src/fill/site_choice.hpp): the report lists the same sites at
+# any rank count.
+if [ "$np" -gt 1 ]; then
+  for n in 1 "$np"; do
+    "$mpirun" --oversubscribe -np "$n" "$pfill" fill --builtin sphere -n 300 --sites 0 --site-spacing 2 --seed 1 \
+      --engine lammps -q -o "$tmp/sites$n.csv" --report "$tmp/sites$n.json" > "$tmp/stdout" 2> "$tmp/stderr" ||
+      { cat "$tmp/stderr"; exit 1; }
+  done
+  python3 - "$tmp/sites$np.json" "$tmp/sites1.json" <<'PY'
+import json, sys
+many, one = (json.load(open(p))["sites"] for p in sys.argv[1:3])
+assert len(one) > 10 and many == one, f"the sites differ: {len(many)} at several ranks, {len(one)} at one"
+print("waves: the same", len(one), "sites at one rank and at several")
+PY
+fi
 
 # Unequal spheres (--radii, 2026-12-06): hard by each pair's smaller radius,
 # inside, the count near the OpenCL engine's (495 at seed 1; LAMMPS 493 at

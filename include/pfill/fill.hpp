@@ -153,9 +153,13 @@ struct FillOptions {
   /// With `engine`: it computes the wall near its particles from the mesh
   /// (ParticleEngine::share_exact_field; the LAMMPS engine, where each MPI
   /// rank then holds only the bricks of the wall its spheres reach) instead
-  /// of reading a whole field; the fill's own field, for the birth sites,
-  /// is then built at twice the spacing (an eighth of the samples) and its
-  /// samples freed once they are chosen; the finish's holes ask the mesh.
+  /// of reading a whole field. Waves of equal spheres on a mesh of one
+  /// part then build no field at all: each process chooses the birth
+  /// sites of its own sub-domain from the mesh's exact distances, the same
+  /// sites at any process count (src/fill/site_choice.hpp).
+  /// Other fills build the fill's own field at twice the spacing (an
+  /// eighth of the samples) for the sites, its samples freed once they
+  /// are chosen. The finish's holes ask the mesh.
   bool wall_from_mesh = false;
   /// Called with a snapshot every `frame_every` steps (for --frames).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;

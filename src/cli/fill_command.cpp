@@ -322,9 +322,11 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
                    : std::string());
   std::printf("  time            %.1fs (field %.1fs; set-up %ss; %s; verify %ss)\n", r.seconds, r.field_seconds,
               num(r.setup_seconds, 2).c_str(), passes.c_str(), num(r.verify_seconds, 2).c_str());
+  // (The LAMMPS engine's waves build no field: the mesh answers.)
   if (r.peak_memory > 0)
-    std::printf("  memory          peak %s MiB resident (the distance field %s MiB)\n",
-                thousands(r.peak_memory >> 20).c_str(), thousands(r.field_bytes >> 20).c_str());
+    std::printf("  memory          peak %s MiB resident (%s)\n", thousands(r.peak_memory >> 20).c_str(),
+                r.field_bytes > 0 ? ("the distance field " + thousands(r.field_bytes >> 20) + " MiB").c_str()
+                                  : "no distance field");
 }
 
 }  // namespace

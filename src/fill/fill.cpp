@@ -17,6 +17,7 @@
 #include <future>
 #include <limits>
 #include <memory>
+#include <optional>
 
 #include "fill/fill_options_check.hpp"
 #include "fill/fill_passes.hpp"
@@ -24,6 +25,7 @@
 #include "fill/fill_progress.hpp"
 #include "fill/fill_verify.hpp"
 #include "fill/finish.hpp"
+#include "fill/held_sites.hpp"
 #include "fill/large_first_scale.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/boundary.hpp"
@@ -67,7 +69,7 @@ class FillRun {
   FillResult run() {
     prepare();
     note_device_times();
-    FillPasses passes(*engine_, o_, plan_, sites_, room_sites_, reporter_, result_);
+    FillPasses passes(*engine_, o_, plan_, std::move(held_), reporter_, result_);
     passes.place_large_first(field_);
     // With the wall from the mesh, the field's samples served the sites
     // only: the finish's holes ask the mesh (its grid, kept, lays them out).
@@ -80,6 +82,7 @@ class FillRun {
     note_device_times();
     passes.settle();
     note_device_times();
+    result_.sites = passes.all_sites();
     finish(passes.next_id());
     note_device_times();
     verify();
@@ -150,9 +153,9 @@ class FillRun {
       // The engine's wall from the mesh, at the planned spacing; the fill's
       // sites and holes on a field twice as coarse.
       wall_ = std::make_unique<ExactField>(*boundary_, plan_.field);
-      SdfOptions coarse = plan_.field;
-      coarse.spacing *= 2;
-      field_ = build_signed_distance_field(*boundary_, coarse, &stats);
+      const SdfOptions coarse = coarse_options();
+      // Sites split over the processes come from the mesh: the grid only lays out the finish's holes.
+      field_ = sites_from_mesh() ? sdf_lattice(mesh_.bounds(), coarse) : build_signed_distance_field(*boundary_, coarse, &stats);
     } else {
       field_ = build_signed_distance_field(*boundary_, plan_.field, &stats);
     }
@@ -160,8 +163,10 @@ class FillRun {
     result_.field_seconds = stats.seconds;
     result_.field_bytes = stats.bytes;
     result_.field_spacing = field_.spacing;
-    plan_sites();
-    rescale_for_large_first();
+    if (!sites_from_mesh()) {
+      plan_sites();
+      rescale_for_large_first();
+    }
 
     if (device.valid()) device_ = device.get();
     result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
@@ -173,6 +178,36 @@ class FillRun {
       engine_->share_exact_field(*wall_);
     else
       engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
+    if (sites_from_mesh()) choose_split_sites(coarse_options());
+  }
+
+  // Waves of equal spheres with the wall from the mesh (the LAMMPS
+  // engine): each process chooses the sites of its own sub-domain from the
+  // mesh's exact distances (site_choice.hpp), and no process builds the
+  // field. A mesh of many parts (add_sites_per_part labels the field's
+  // parts) and a given first site keep the field.
+  bool sites_from_mesh() const {
+    return o_.engine && o_.wall_from_mesh && plan_.waves && !plan_.sizes && !o_.birth && diagnostics_.components <= 1;
+  }
+
+  SdfOptions coarse_options() const {
+    SdfOptions coarse = plan_.field;
+    coarse.spacing *= 2;
+    return coarse;
+  }
+
+  // This process's sites (collective). An object too thin for any takes
+  // the field's way after all: its one deepest point, or the error that no
+  // sphere fits.
+  void choose_split_sites(const SdfOptions& coarse) {
+    const SiteLattice waves(mesh_.bounds(), o_.site_spacing * plan_.mean_rest_distance(o_),
+                            o_.site_min_depth * plan_.mean_radius);
+    std::optional<SiteLattice> rooms;
+    if (o_.room_spacing > 0) rooms.emplace(mesh_.bounds(), o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
+    held_ = split_sites(*boundary_, waves, rooms, *engine_, engine_->birth_view(0, false));
+    if (held_.total_sites > 0) return;
+    field_ = build_signed_distance_field(*boundary_, coarse);
+    plan_sites();
   }
 
   // The birth sites on the field (and the room sites of waves).
@@ -187,10 +222,11 @@ class FillRun {
                                    " closed parts are too small for a sphere of radius " +
                                    short_number(plan_.radius) + " and stay empty");
     }
-    result_.sites = sites_;
     // (Unequal spheres: the waves' sites alone.)
+    std::vector<BirthSite> room_sites;
     if (plan_.waves && o_.room_spacing > 0 && !plan_.sizes)
-      room_sites_ = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
+      room_sites = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
+    held_ = replicated_sites(sites_, std::move(room_sites));
   }
 
   // Unequal spheres sized by a count whose rare large ones do not all fit
@@ -316,7 +352,7 @@ class FillRun {
   ScalarGrid field_;
   std::unique_ptr<ExactField> wall_;  ///< FillOptions::wall_from_mesh: the engines' wall (field_ is then coarser)
   std::vector<BirthSite> sites_;
-  std::vector<BirthSite> room_sites_;  ///< waves: the first births' extra sites (FillPasses)
+  HeldSites held_;  ///< the sites this process holds, for FillPasses (sites_ and the waves' room sites, or split)
   std::unique_ptr<Device> device_;
   EngineParams params_;
   std::unique_ptr<ParticleEngine> engine_;

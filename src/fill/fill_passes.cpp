@@ -37,21 +37,19 @@ std::vector<size_t> take_flagged(ParticleEngine& e) {
 
 }  // namespace
 
-FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan,
-                       std::vector<BirthSite> sites, std::vector<BirthSite> room_sites, FillReporter& reporter,
-                       FillResult& result)
+FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan, HeldSites sites,
+                       FillReporter& reporter, FillResult& result)
     : engine_(engine),
       o_(o),
       plan_(plan),
-      sites_(std::move(sites)),
-      room_sites_(std::move(room_sites)),
+      held_(std::move(sites)),
       reporter_(reporter),
       result_(result),
       top_speed_(engine.constants().max_speed),
       newest_(Engine::kGone) {
   if (plan.sizes) {
     sizes_.emplace(*plan.sizes);
-    sizes_->front_load(plan.expected, front_first_wave(plan, sites_.size()));
+    sizes_->front_load(plan.expected, front_first_wave(plan, held_.sites.size()));
   }
 }
 
@@ -59,13 +57,13 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
 void FillPasses::place_large_first(const ScalarGrid& field) {
   if (!sizes_) return;
   // The radii large_first_scale tried (the same stream, on every process).
-  const std::vector<double> radii = front_loaded_radii(plan_, sites_.size(), o_.seed);
+  const std::vector<double> radii = front_loaded_radii(plan_, held_.sites.size(), o_.seed);
   if (radii.empty()) return;
   // Clear of the wall and of each other: every placed sphere starts with no force on it.
   const LargePlacement placed = pfill::place_large_first(field, radii, large_first_settings(plan_.radius));
   std::vector<Particle> ps;
   for (size_t k = 0; k < placed.centres.size(); ++k) {
-    Particle p = newborn_at(placed.centres[k], placed.radii[k], sites_.size() + room_sites_.size() + k);
+    Particle p = newborn_at(placed.centres[k], placed.radii[k], held_.sites.size() + held_.room_sites.size() + k);
     p.velocity = Vec3();
     ps.push_back(p);
     sizes_->add(p.radius);
@@ -140,7 +138,7 @@ void FillPasses::pass1() {
         overfull = true;
         stop("blocked", (blocked.steps_without_birth() >= bs.patience
                              ? "no birth site had room for " + std::to_string(bs.patience) + " steps"
-                             : "the " + std::to_string(sites_.size()) + " sites had room for at most " +
+                             : "the " + std::to_string(held_.total_sites) + " sites had room for at most " +
                                    short_number(bs.share * 100) + "% of the particles in the last " +
                                    std::to_string(bs.patience) + " steps") +
                             (o_.stop != StopCriterion::Blocked
@@ -244,14 +242,15 @@ bool FillPasses::may_birth() const {
 int FillPasses::birth_at_sites() {
   int born = 0;
   const double clearance = plan_.birth_clearance * plan_.rest_distance(o_);
-  std::vector<int> verdicts(sites_.size(), 0);
+  const std::vector<BirthSite>& sites = held_.sites;  // (the report's few sites: on every process)
+  std::vector<int> verdicts(sites.size(), 0);
   if (!sizes_) {
-    mark_sites_with_room(view_, sites_, [&](const Vec3& p) { return site_has_room(snapshot_, p, clearance); }, verdicts);
+    mark_sites_with_room(view_, sites, [&](const Vec3& p) { return site_has_room(snapshot_, p, clearance); }, verdicts);
     share_verdicts(engine_, view_, verdicts);
   }
-  for (size_t k = 0; k < sites_.size(); ++k) {
+  for (size_t k = 0; k < sites.size(); ++k) {
     if (!may_birth()) break;
-    const BirthSite& site = sites_[k];
+    const BirthSite& site = sites[k];
     double radius = plan_.radius;
     if (sizes_) {
       radius = newborn_radius([&](double r) {
@@ -281,8 +280,8 @@ int FillPasses::birth_wave() {
   // Unequal spheres: room for each newborn's own radius, and the wave's
   // large newborns may reach each other across the sites' spacing.
   const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
-  for (size_t k = 0; k < sites_.size(); ++k) {
-    const BirthSite& site = sites_[k];
+  for (size_t k = 0; k < held_.sites.size(); ++k) {
+    const BirthSite& site = held_.sites[k];
     if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
     const double radius = newborn_radius([&](double r) {
       if (!room.has_room(site.position, r)) return false;
@@ -296,27 +295,30 @@ int FillPasses::birth_wave() {
   return static_cast<int>(newborns.size());
 }
 
-/// Equal spheres: the wave's sites (global indices, room sites after the
-/// sites) in the order of the newborns' ids. Each site's room tested where
-/// it is decided, the verdicts shared (site_verdicts.hpp); then the same
-/// choice on every process.
-std::vector<size_t> FillPasses::wave_sites() {
+/// Equal spheres: the wave's open sites (room sites after the sites, in
+/// key order: held_sites.hpp) in the order of the newborns' ids. Each
+/// site's room tested where it is decided, the open ones shared
+/// (site_verdicts.hpp); then the same choice on every process.
+std::vector<OpenSite> FillPasses::wave_sites() {
   const bool capped = reporter_.phase() == FillPhase::Pass2;
   const bool rooms = !capped && room_births_due();
-  std::vector<int> verdicts(sites_.size() + (rooms ? room_sites_.size() : 0), 0);
+  std::vector<OpenSite> open;
   const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
-  mark_sites_with_room(view_, sites_, [&](const Vec3& p) { return room.has_room(p); }, verdicts);
+  add_open_sites(view_, held_.sites, [&](size_t k) { return held_.key(k); }, [&](const Vec3& p) { return room.has_room(p); },
+                 open);
   if (rooms) {
     const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
-    mark_sites_with_room(view_, room_sites_, [&](const Vec3& p) { return clear.has_room(p); }, verdicts, sites_.size());
+    add_open_sites(view_, held_.room_sites, [&](size_t k) { return held_.room_key(k); },
+                   [&](const Vec3& p) { return clear.has_room(p); }, open);
   }
-  share_verdicts(engine_, view_, verdicts);
-  std::vector<size_t> chosen;
-  for (size_t k = 0; k < sites_.size(); ++k) {
-    if (capped && engine_.size() + chosen.size() >= result_.max_parts) break;
-    if (verdicts[k]) chosen.push_back(k);
+  share_open_sites(engine_, view_, open);
+  const uint64_t room_base = held_.room_base();
+  std::vector<OpenSite> chosen;
+  for (const OpenSite& s : open) {
+    if (s.key >= room_base || (capped && engine_.size() + chosen.size() >= result_.max_parts)) break;
+    chosen.push_back(s);
   }
-  if (rooms) room_births(chosen, verdicts);
+  if (rooms) room_births(chosen, open);
   return chosen;
 }
 
@@ -324,47 +326,42 @@ std::vector<size_t> FillPasses::wave_sites() {
 /// process, but each process builds and hands over only those at the sites
 /// it decides (ParticleEngine::add_decided_particles), so that on LAMMPS
 /// each rank creates only its own sub-domain's newborns. A newborn's id and
-/// draws depend on its place in the wave and its site, not on the ranks.
-int FillPasses::add_wave(const std::vector<size_t>& chosen) {
+/// draws depend on its place in the wave and its site's key, not on the ranks.
+int FillPasses::add_wave(const std::vector<OpenSite>& chosen) {
   if (chosen.empty()) return 0;
   std::vector<Particle> mine;
   std::vector<size_t> places;
   for (size_t j = 0; j < chosen.size(); ++j) {
-    const Vec3& at = site_position(chosen[j]);
-    if (view_.decides(at)) mine.push_back(newborn(at, plan_.radius, chosen[j], next_id_ + j)), places.push_back(j);
+    const Vec3& at = chosen[j].position;
+    if (view_.decides(at)) mine.push_back(newborn(at, plan_.radius, chosen[j].key, next_id_ + j)), places.push_back(j);
   }
   next_id_ += chosen.size();
   newest_ = engine_.add_decided_particles(mine, places, chosen.size()) + chosen.size() - 1;
   return static_cast<int>(chosen.size());
 }
 
-/// The site at global index `site`: room sites after the sites.
-const Vec3& FillPasses::site_position(size_t site) const {
-  return site < sites_.size() ? sites_[site].position : room_sites_[site - sites_.size()].position;
-}
-
 /// While the fill is sparse (below kRoomUntil of the expected count): a
-/// newborn at each room site where it overlaps no sphere of the snapshot
-/// (`verdicts` from sites_.size() on, shared over the processes) and none
-/// of this wave's newborns (`chosen`; the same on every process, in the
-/// room sites' order).
-void FillPasses::room_births(std::vector<size_t>& chosen, const std::vector<int>& verdicts) {
+/// newborn at each open room site (`open`, past the sites' keys; the same
+/// on every process, in key order) where it overlaps none of this wave's
+/// newborns (`chosen`).
+void FillPasses::room_births(std::vector<OpenSite>& chosen, const std::vector<OpenSite>& open) {
   const double clearance = kRoomClearance * plan_.rest_distance(o_);
+  const uint64_t room_base = held_.room_base();
   CentreGrid wave(clearance);
-  for (size_t k = 0; k < chosen.size(); ++k) wave.insert(site_position(chosen[k]), static_cast<uint32_t>(k));
-  for (size_t k = 0; k < room_sites_.size(); ++k) {
-    const Vec3& at = room_sites_[k].position;
-    if (!verdicts[sites_.size() + k]) continue;
-    if (wave.any_near(at, [&](uint32_t j) { return length(site_position(chosen[j]) - at) < clearance; })) continue;
+  for (size_t k = 0; k < chosen.size(); ++k) wave.insert(chosen[k].position, static_cast<uint32_t>(k));
+  for (const OpenSite& s : open) {
+    if (s.key < room_base) continue;
+    const Vec3& at = s.position;
+    if (wave.any_near(at, [&](uint32_t j) { return length(chosen[j].position - at) < clearance; })) continue;
     wave.insert(at, static_cast<uint32_t>(chosen.size()));
-    chosen.push_back(sites_.size() + k);
+    chosen.push_back(s);
   }
 }
 
 /// Room births while the fill is sparse, where the last view reached far
 /// enough for their room test (one process: always).
 bool FillPasses::room_births_due() const {
-  return !room_sites_.empty() && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected &&
+  return held_.total_room_sites > 0 && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected &&
          (view_.complete() || view_reach_ >= kRoomClearance * plan_.rest_distance(o_));
 }
 
@@ -372,7 +369,7 @@ bool FillPasses::room_births_due() const {
 /// tests: the birth clearance, and the room sites' while those may birth.
 double FillPasses::birth_reach() const {
   double share = plan_.birth_clearance;
-  if (!room_sites_.empty() && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected)
+  if (held_.total_room_sites > 0 && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected)
     share = std::max(share, kRoomClearance);
   return share * plan_.rest_distance(o_);
 }
@@ -384,6 +381,7 @@ double FillPasses::birth_reach() const {
 void FillPasses::take_birth_view() {
   view_reach_ = birth_reach();
   view_ = engine_.birth_view(view_reach_, sizes_.has_value());
+  hand_over_sites(held_, engine_, view_);  // (split sites, when a balance moved the sub-domains)
   snapshot_ = std::move(view_.centres);
   snapshot_radii_.clear();
   if (sizes_) {
@@ -413,14 +411,14 @@ double FillPasses::newborn_radius(const HasRoom& has_room, size_t site) {
   return 0;
 }
 
-/// The newborn at global site `site` (room sites after the sites): its
-/// speed and direction from the stream of (seed, this step, site).
-Particle FillPasses::newborn_at(const Vec3& position, double radius, size_t site) {
+/// The newborn at the site keyed `site` (held_sites.hpp): its speed and
+/// direction from the stream of (seed, this step, site).
+Particle FillPasses::newborn_at(const Vec3& position, double radius, uint64_t site) {
   return newborn(position, radius, site, next_id_++);
 }
 
-/// The newborn at global site `site` with id `id`.
-Particle FillPasses::newborn(const Vec3& position, double radius, size_t site, uint64_t id) const {
+/// The newborn at the site keyed `site` with id `id`.
+Particle FillPasses::newborn(const Vec3& position, double radius, uint64_t site, uint64_t id) const {
   CounterRng draws(o_.seed, engine_.steps_done(), site);
   Particle p;
   p.position = position;

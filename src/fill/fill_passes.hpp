@@ -22,6 +22,8 @@
 
 #include "fill/fill_plan.hpp"
 #include "fill/fill_progress.hpp"
+#include "fill/held_sites.hpp"
+#include "fill/site_verdicts.hpp"
 #include "fill/size_deficit.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/fill.hpp"
@@ -32,9 +34,10 @@ class FillPasses {
  public:
   /// Runs on `engine` (empty, the field set); writes what the passes
   /// decide (stop signal, MaxParts, losses, pass times) into `result`.
-  /// `room_sites`: waves' extra sites for the first births (may be empty).
-  FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan, std::vector<BirthSite> sites,
-             std::vector<BirthSite> room_sites, FillReporter& reporter, FillResult& result);
+  /// `sites`: the birth sites this process holds (held_sites.hpp), with
+  /// the waves' room sites for the first births (may be none).
+  FillPasses(ParticleEngine& engine, const FillOptions& o, const FillPlan& plan, HeldSites sites,
+             FillReporter& reporter, FillResult& result);
 
   /// Unequal spheres with a rare large class (SizeDeficit::front_load):
   /// its quota placed at rest at deep points of `field`, clear of the wall
@@ -52,6 +55,9 @@ class FillPasses {
   std::vector<size_t> size_caps() const { return sizes_ && sizes_->capped() ? sizes_->caps() : std::vector<size_t>{}; }
   /// "only N of the M largest spheres ... fit", when they fell short; else empty.
   const std::string& short_front() const { return short_front_; }
+  /// Every process's birth sites (not the room sites), in key order, for
+  /// the report (collective; split sites are gathered).
+  std::vector<BirthSite> all_sites() { return pfill::all_sites(held_, engine_); }
 
  private:
   std::vector<int> run_batch(bool births);
@@ -61,12 +67,11 @@ class FillPasses {
   void take_birth_view();
   double birth_reach() const;
   bool room_births_due() const;
-  std::vector<size_t> wave_sites();
-  int add_wave(const std::vector<size_t>& chosen);
-  const Vec3& site_position(size_t site) const;
-  void room_births(std::vector<size_t>& chosen, const std::vector<int>& verdicts);
-  Particle newborn_at(const Vec3& position, double radius, size_t site);
-  Particle newborn(const Vec3& position, double radius, size_t site, uint64_t id) const;
+  std::vector<OpenSite> wave_sites();
+  int add_wave(const std::vector<OpenSite>& chosen);
+  void room_births(std::vector<OpenSite>& chosen, const std::vector<OpenSite>& open);
+  Particle newborn_at(const Vec3& position, double radius, uint64_t site);
+  Particle newborn(const Vec3& position, double radius, uint64_t site, uint64_t id) const;
   bool newborns_clear(const Vec3& site, double radius, double clearance) const;
   template <class HasRoom>
   double newborn_radius(const HasRoom& has_room, size_t site);
@@ -78,8 +83,7 @@ class FillPasses {
   ParticleEngine& engine_;
   const FillOptions& o_;
   const FillPlan& plan_;
-  std::vector<BirthSite> sites_;
-  std::vector<BirthSite> room_sites_;  ///< waves: extra sites for the first births, where nothing overlaps
+  HeldSites held_;  ///< the sites (and the waves' room sites, for the first births) this process holds
   FillReporter& reporter_;
   FillResult& result_;
   double top_speed_ = 0;

@@ -7,10 +7,12 @@
 // other newborns (the pass-2 cap, room sites near this wave's newborns,
 // newborns in flight) is then applied on every process alike.
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "fill/word_bits.hpp"
 #include "pfill/birth_sites.hpp"
 #include "pfill/engine/particle_engine.hpp"
 
@@ -37,6 +39,38 @@ inline void share_verdicts(ParticleEngine& engine, const BirthView& view, std::v
     if (verdicts[k]) with_room.push_back(k);
   engine.gather_over_processes(with_room);
   for (uint64_t k : with_room) verdicts[k] = 1;
+}
+
+/// A site with room in a wave: its key (held_sites.hpp) and place.
+struct OpenSite {
+  uint64_t key;
+  Vec3 position;
+};
+
+/// Appends to `open` the sites of `sites` this process decides that
+/// `has_room(position)`, each with key `key_of(k)`.
+template <class KeyOf, class HasRoom>
+void add_open_sites(const BirthView& view, const std::vector<BirthSite>& sites, const KeyOf& key_of,
+                    const HasRoom& has_room, std::vector<OpenSite>& open) {
+  for (size_t k = 0; k < sites.size(); ++k)
+    if (view.decides(sites[k].position) && has_room(sites[k].position)) open.push_back({key_of(k), sites[k].position});
+}
+
+/// Every process's open sites on every process, in key order (an
+/// MPI_Allgatherv of 4 words a site with room on the LAMMPS engine at
+/// P > 1: a wave's births, never the sites without room). One process:
+/// unchanged (already in key order).
+inline void share_open_sites(ParticleEngine& engine, const BirthView& view, std::vector<OpenSite>& open) {
+  if (view.complete()) return;
+  std::vector<uint64_t> words;
+  words.reserve(4 * open.size());
+  for (const OpenSite& s : open)
+    words.insert(words.end(), {s.key, bits_of(s.position.x), bits_of(s.position.y), bits_of(s.position.z)});
+  engine.gather_over_processes(words);
+  open.clear();
+  for (size_t w = 0; w + 4 <= words.size(); w += 4)
+    open.push_back({words[w], Vec3(double_of(words[w + 1]), double_of(words[w + 2]), double_of(words[w + 3]))});
+  std::sort(open.begin(), open.end(), [](const OpenSite& a, const OpenSite& b) { return a.key < b.key; });
 }
 
 }  // namespace pfill

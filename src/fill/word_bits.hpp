@@ -1,6 +1,7 @@
-// A 64-bit word sent among doubles (ids, packed colours) and back, bit for
-// bit: the processes' messages of the finish and the exact check are rows
-// of doubles (finish_view.cpp, particle_share.cpp).
+// A double sent among 64-bit words and back, bit for bit: the processes'
+// messages of the finish and the exact check are rows of doubles carrying
+// ids and packed colours (finish_view.cpp, particle_share.cpp); the birth
+// sites' are rows of words carrying places (held_sites.cpp, site_verdicts.hpp).
 #pragma once
 #include <cstdint>
 #include <cstring>
