@@ -24,13 +24,17 @@ void BandField::FreeChunk::operator()(float* p) const { std::free(p); }
 
 BandField::BandField(const ScalarGrid& field, double offset, double band)
     : field_(field), offset_(static_cast<float>(offset)), band_(band) {
-  for (int a = 0; a < 3; ++a) nb_[a] = (field.dims[a] - 2) / kCells + 1;  // cells 0 .. dims - 2
-  index_.assign(static_cast<size_t>(nb_[0]) * nb_[1] * nb_[2], kDeep);
+  for (int a = 0; a < 3; ++a) {
+    nb_[a] = (field.dims[a] - 2) / kCells + 1;  // cells 0 .. dims - 2
+    ng_[a] = (nb_[a] + kGroup - 1) / kGroup;
+  }
+  groups_.assign(static_cast<size_t>(ng_[0]) * ng_[1] * ng_[2], kUnseen);
+  const size_t count = static_cast<size_t>(nb_[0]) * nb_[1] * nb_[2];
   // The slope: at most the norm of the largest sample differences along x,
   // y, z over the spacing (every pair of neighbouring samples lies in a brick).
   double dmax[3] = {0, 0, 0};
   float v[kSide * kSide * kSide];
-  for (size_t b = 0; b < index_.size(); ++b) {
+  for (size_t b = 0; b < count; ++b) {
     read_brick(b, v);
     float top = -INFINITY;
     for (int z = 0; z < kSide; ++z)
@@ -43,8 +47,9 @@ BandField::BandField(const ScalarGrid& field, double offset, double band)
           if (y + 1 < kSide) dmax[1] = std::max(dmax[1], std::fabs(s[kSide] - s0));
           if (z + 1 < kSide) dmax[2] = std::max(dmax[2], std::fabs(s[kSide * kSide] - s0));
         }
+    int32_t& e = entry(static_cast<int>(b % nb_[0]), static_cast<int>(b / nb_[0] % nb_[1]), static_cast<int>(b / nb_[0] / nb_[1]));
     if (top > -band_) {
-      index_[b] = static_cast<int32_t>(bricks_.size());
+      e = static_cast<int32_t>(bricks_.size());
       bricks_.push_back(static_cast<int32_t>(b));
     }
   }
@@ -54,14 +59,26 @@ BandField::BandField(const ScalarGrid& field, double offset, double band)
 
 BandField::BandField(const ExactField& exact, double offset, double band)
     : field_(exact.lattice()), exact_(&exact), offset_(static_cast<float>(offset)), band_(band) {
-  for (int a = 0; a < 3; ++a) nb_[a] = (field_.dims[a] - 2) / kCells + 1;
-  index_.assign(static_cast<size_t>(nb_[0]) * nb_[1] * nb_[2], kUnseen);
+  for (int a = 0; a < 3; ++a) {
+    nb_[a] = (field_.dims[a] - 2) / kCells + 1;
+    ng_[a] = (nb_[a] + kGroup - 1) / kGroup;
+  }
+  groups_.assign(static_cast<size_t>(ng_[0]) * ng_[1] * ng_[2], kUnseen);
   // Trilinear in the samples of a 1-Lipschitz distance: each partial
   // derivative is a mean of differences of at most a spacing each.
   lipschitz_ = 1.0001 * std::sqrt(3.0);
 }
 
 BandField::~BandField() = default;
+
+int32_t& BandField::entry(int bi, int bj, int bk) {
+  int32_t& g = groups_[group_index(bi, bj, bk)];
+  if (g == kUnseen) {
+    g = static_cast<int32_t>(slots_.size());
+    slots_.resize(slots_.size() + kGroup * kGroup * kGroup, kDeep);
+  }
+  return slots_[static_cast<size_t>(g) + in_group(bi, bj, bk)];
+}
 
 int32_t BandField::open_group(int bi, int bj, int bk) {
   const int g[3] = {bi / kGroup * kGroup, bj / kGroup * kGroup, bk / kGroup * kGroup};
@@ -80,13 +97,13 @@ int32_t BandField::open_group(int bi, int bj, int bk) {
         // clamped centre's ball still holds them.)
         const Vec3 centre = field_.point(x * kCells, y * kCells, z * kCells) + Vec3(1, 1, 1) * (0.5 * kCells * h);
         const double d = exact_->at(centre);
-        const size_t b = brick_index(x, y, z);
+        int32_t& e = entry(x, y, z);
         if (d + offset_ <= -(band_ + half_diagonal)) {
-          index_[b] = kDeep;
+          e = kDeep;
           continue;
         }
-        index_[b] = static_cast<int32_t>(bricks_.size());
-        bricks_.push_back(static_cast<int32_t>(b));
+        e = static_cast<int32_t>(bricks_.size());
+        bricks_.push_back(static_cast<int32_t>(brick_index(x, y, z)));
         corner.push_back({(x - g[0]) * kCells, (y - g[1]) * kCells, (z - g[2]) * kCells});
         const float reach = static_cast<float>(1.01 * (std::fabs(d) + half_diagonal));
         for (int sz = 0; sz < kSide; ++sz)
@@ -117,11 +134,11 @@ int32_t BandField::open_group(int bi, int bj, int bk) {
         for (int x = 0; x < kSide; ++x)
           v[x + kSide * (y + kSide * z)] = values[sample_index(o[0] + x, o[1] + y, o[2] + z)] + offset_;
   }
-  return index_[brick_index(bi, bj, bk)];
+  return entry(bi, bj, bk);
 }
 
 size_t BandField::bytes() const {
-  size_t n = index_.size() * sizeof(int32_t) + bricks_.size() * sizeof(int32_t);
+  size_t n = (groups_.size() + slots_.size() + bricks_.size()) * sizeof(int32_t);
   if (exact_) return n + bricks_.size() * kBrickFloats * sizeof(float);  // (the last chunk's rest: not yet written)
   for (const auto& c : chunks_) n += c ? kChunkBytes : 0;
   return n;

@@ -24,6 +24,11 @@
 // computed from the mesh (the exact values the whole field holds near the
 // wall), each sample of the group once. A rank then computes and holds
 // only the bricks its own spheres reach, wherever its sub-domain moves.
+// The index of bricks is in two levels: a word per group over the whole
+// grid (1/4,096 of its samples), then a word per brick of the groups
+// opened, so that a rank's index too grows with the bricks it reaches
+// (one word per brick of the whole grid was 128 MiB a rank at the grid's
+// largest, 2^31 samples).
 //
 // The wall's offset (EngineParams::wall_offset) is added to each sample
 // as the kernels add it (a float sum), so a moved wall needs no shifted
@@ -79,11 +84,21 @@ class BandField {
   size_t brick_index(int bi, int bj, int bk) const {
     return static_cast<size_t>(bi) + static_cast<size_t>(nb_[0]) * (bj + static_cast<size_t>(nb_[1]) * bk);
   }
+  size_t group_index(int bi, int bj, int bk) const {
+    return static_cast<size_t>(bi / kGroup) +
+           static_cast<size_t>(ng_[0]) * (bj / kGroup + static_cast<size_t>(ng_[1]) * (bk / kGroup));
+  }
+  static size_t in_group(int bi, int bj, int bk) {
+    return static_cast<size_t>(bi % kGroup + kGroup * (bj % kGroup + kGroup * (bk % kGroup)));
+  }
   /// The brick holding cell (i, j, k): its slot, or kDeep (its group looked at first, from an ExactField).
   int32_t brick(int i, int j, int k) {
-    const int32_t b = index_[brick_index(i / kCells, j / kCells, k / kCells)];
-    return b == kUnseen ? open_group(i / kCells, j / kCells, k / kCells) : b;
+    const int bi = i / kCells, bj = j / kCells, bk = k / kCells;
+    const int32_t g = groups_[group_index(bi, bj, bk)];
+    return g == kUnseen ? open_group(bi, bj, bk) : slots_[static_cast<size_t>(g) + in_group(bi, bj, bk)];
   }
+  /// Brick (bi, bj, bk)'s entry of the index, its group given entries (kDeep) first.
+  int32_t& entry(int bi, int bj, int bk);
   /// From an ExactField: the group of brick (bi, bj, bk) given slots and
   /// samples, or marked deep; returns that brick's slot or kDeep.
   int32_t open_group(int bi, int bj, int bk);
@@ -114,9 +129,11 @@ class BandField {
   const ExactField* exact_ = nullptr;
   float offset_;
   double band_;
-  int nb_[3] = {0, 0, 0};
+  int nb_[3] = {0, 0, 0};  // bricks a side
+  int ng_[3] = {0, 0, 0};  // groups a side
   double lipschitz_ = 0;
-  std::vector<int32_t> index_;  // per brick: kDeep or its slot
+  std::vector<int32_t> groups_;  // per group: kUnseen, or where its kGroup^3 entries start in slots_
+  std::vector<int32_t> slots_;   // per brick of the groups given entries: kDeep or its slot
   std::vector<int32_t> bricks_;  // per slot: its brick
   std::vector<std::unique_ptr<float[], FreeChunk>> chunks_;  // null until first used
 };
