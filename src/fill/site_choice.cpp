@@ -258,16 +258,19 @@ std::vector<KeyedSite> SiteChoice::sites(uint64_t key_base) const {
 std::vector<KeyedSite> choose_sites(const Boundary& boundary, const SiteLattice& lattice, const BirthView& view,
                                     ParticleEngine& engine, uint64_t key_base) {
   SiteChoice choice(boundary, lattice, view.regions, view.region);
+  // Each process's decisions and, in the same gather, its count still
+  // undecided (a word with the top bit set: decisions stay below 2^63).
+  constexpr uint64_t kCount = uint64_t(1) << 63;
   for (;;) {
     std::vector<uint64_t> told = choice.sweep();
     if (view.complete()) break;  // one process: one sweep decides every candidate
+    told.push_back(kCount | choice.undecided());
     engine.gather_over_processes(told);
+    uint64_t left = 0;
+    for (uint64_t w : told) left += (w & kCount) ? w & ~kCount : 0;
+    told.erase(std::remove_if(told.begin(), told.end(), [](uint64_t w) { return (w & kCount) != 0; }), told.end());
     choice.apply(told);
-    std::vector<uint64_t> left{choice.undecided()};
-    engine.gather_over_processes(left);
-    uint64_t total = 0;
-    for (uint64_t n : left) total += n;
-    if (total == 0) break;
+    if (left == 0) break;
   }
   if (choice.undecided() != 0) throw Error("birth sites: a candidate was left undecided (internal error)");
   return choice.sites(key_base);
