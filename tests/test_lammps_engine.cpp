@@ -445,13 +445,23 @@ TEST_CASE("lammps engine: the first waves' newborns as on one process") {
   const std::vector<ParticleSet> lmp = frames_of(lammps_engine_factory());
   REQUIRE(ref.size() == 3);
   REQUIRE(lmp.size() == 3);
+  // At several ranks a wave's newborns are numbered in the ranks' order
+  // (src/fill/wave_choice.hpp): the same ids, given to the same spheres
+  // in another order; each sphere is matched by place.
+  const bool one_rank = lammps_mpi_start().size == 1;
   for (size_t f = 0; f < 3; ++f) {
     INFO("frame " << f << ": " << ref[f].size() << " on the reference, " << lmp[f].size() << " on LAMMPS");
-    REQUIRE(ref[f].ids == lmp[f].ids);
+    REQUIRE(ref[f].size() == lmp[f].size());
+    std::vector<uint64_t> ref_ids = ref[f].ids, lmp_ids = lmp[f].ids;
+    if (!one_rank) std::sort(ref_ids.begin(), ref_ids.end()), std::sort(lmp_ids.begin(), lmp_ids.end());
+    REQUIRE(ref_ids == lmp_ids);
     double worst = 0;
     size_t at = 0;
-    for (size_t i = 0; i < ref[f].size(); ++i)
-      if (length(ref[f].positions[i] - lmp[f].positions[i]) > worst) worst = length(ref[f].positions[i] - lmp[f].positions[i]), at = i;
+    for (size_t i = 0; i < ref[f].size(); ++i) {
+      double d = length(ref[f].positions[i] - lmp[f].positions[i]);
+      for (size_t j = 0; !one_rank && j < lmp[f].size(); ++j) d = std::min(d, length(ref[f].positions[i] - lmp[f].positions[j]));
+      if (d > worst) worst = d, at = i;
+    }
     INFO("worst at id " << ref[f].ids[at] << " index " << at);
     CHECK(worst < 1e-6);
   }

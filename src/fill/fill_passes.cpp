@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <random>
 
-#include "fill/centre_grid.hpp"
 #include "fill/counter_rng.hpp"
 #include "fill/large_first.hpp"
 #include "fill/large_first_scale.hpp"
@@ -17,6 +16,7 @@
 #include "fill/short_number.hpp"
 #include "fill/site_verdicts.hpp"
 #include "fill/stopwatch.hpp"
+#include "fill/wave_choice.hpp"
 
 namespace pfill {
 namespace {
@@ -28,6 +28,10 @@ namespace {
 // docs/benchmarks.md). A room site takes a newborn only where no centre
 // lies within this many rest distances, so that newborn overlaps nobody.
 constexpr double kRoomUntil = 0.5, kRoomClearance = 1.0;
+// Room sites at least this much further apart than their clearance (the
+// choice keeps them a spacing apart by squared distances: a margin for the
+// rounding) never crowd each other.
+constexpr double kRoomSpacingApart = 1.001;
 
 std::vector<size_t> take_flagged(ParticleEngine& e) {
   std::vector<size_t> out = e.flagged_particles();
@@ -274,11 +278,22 @@ int FillPasses::birth_at_sites() {
 /// several rest distances apart, so newborns of one wave never crowd each
 /// other. Returns how many were born.
 int FillPasses::birth_wave() {
-  if (!sizes_) return add_wave(wave_sites());
+  if (sizes_) return birth_wave_of_sizes();
+  const bool capped = reporter_.phase() == FillPhase::Pass2;
+  const bool rooms = !capped && room_births_due();
+  // Room sites spaced wider than their clearance never crowd each other,
+  // so each process may decide its own (wave_choice.hpp; one process: always).
+  if (!capped && (view_.complete() || !rooms || o_.room_spacing > kRoomSpacingApart * kRoomClearance))
+    return add_own_wave(own_wave_sites(rooms));
+  return add_wave(wave_sites(capped, rooms));
+}
+
+/// Unequal spheres: room for each newborn's own radius, and the wave's
+/// large newborns may reach each other across the sites' spacing (every
+/// process walks every site: their births depend on each other in order).
+int FillPasses::birth_wave_of_sizes() {
   const bool capped = reporter_.phase() == FillPhase::Pass2;
   std::vector<Particle> newborns;
-  // Unequal spheres: room for each newborn's own radius, and the wave's
-  // large newborns may reach each other across the sites' spacing.
   const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
   for (size_t k = 0; k < held_.sites.size(); ++k) {
     const BirthSite& site = held_.sites[k];
@@ -295,31 +310,59 @@ int FillPasses::birth_wave() {
   return static_cast<int>(newborns.size());
 }
 
-/// Equal spheres: the wave's open sites (room sites after the sites, in
-/// key order: held_sites.hpp) in the order of the newborns' ids. Each
-/// site's room tested where it is decided, the open ones shared
-/// (site_verdicts.hpp); then the same choice on every process.
-std::vector<OpenSite> FillPasses::wave_sites() {
-  const bool capped = reporter_.phase() == FillPhase::Pass2;
-  const bool rooms = !capped && room_births_due();
-  std::vector<OpenSite> open;
+/// Equal spheres: this process's open wave sites and, when `rooms`, its
+/// open room sites (each in key order), each site's room tested here.
+void FillPasses::open_sites(bool rooms, std::vector<OpenSite>& open, std::vector<OpenSite>& room_open) const {
   const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
   add_open_sites(view_, held_.sites, [&](size_t k) { return held_.key(k); }, [&](const Vec3& p) { return room.has_room(p); },
                  open);
-  if (rooms) {
-    const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
-    add_open_sites(view_, held_.room_sites, [&](size_t k) { return held_.room_key(k); },
-                   [&](const Vec3& p) { return clear.has_room(p); }, open);
+  if (!rooms) return;
+  const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
+  add_open_sites(view_, held_.room_sites, [&](size_t k) { return held_.room_key(k); },
+                 [&](const Vec3& p) { return clear.has_room(p); }, room_open);
+}
+
+/// The wave's newborns this process decides (wave_choice.hpp): its open
+/// wave sites, then its room sites clear of every open wave site, the
+/// others' near its border told by one gather.
+std::vector<OpenSite> FillPasses::own_wave_sites(bool rooms) {
+  std::vector<OpenSite> open, room_open;
+  open_sites(rooms, open, room_open);
+  if (!rooms) return open;
+  const double clearance = kRoomClearance * plan_.rest_distance(o_);
+  std::vector<uint64_t> told = border_site_words(view_, open, clearance);
+  if (!view_.complete()) engine_.gather_over_processes(told);
+  return choose_wave(open, room_open, sites_of_words(told), clearance);
+}
+
+/// This process's newborns at `mine` (own_wave_sites), placed and numbered
+/// after the processes before it (share_wave).
+int FillPasses::add_own_wave(const std::vector<OpenSite>& mine) {
+  const WaveShare share = share_wave(engine_, view_, mine);
+  if (share.total == 0) return 0;
+  std::vector<Particle> ps;
+  std::vector<size_t> places;
+  for (size_t k = 0; k < mine.size(); ++k) {
+    ps.push_back(newborn(mine[k].position, plan_.radius, mine[k].key, next_id_ + share.first + k));
+    places.push_back(share.first + k);
   }
+  next_id_ += share.total;
+  newest_ = engine_.add_decided_particles(ps, places, share.total) + share.newest;
+  return static_cast<int>(share.total);
+}
+
+/// Equal spheres, where the wave's births must be chosen in key order over
+/// every process (pass 2's cap; room sites that may crowd each other across
+/// a border): every process's open sites gathered (site_verdicts.hpp), then
+/// the same choice on every process.
+std::vector<OpenSite> FillPasses::wave_sites(bool capped, bool rooms) {
+  std::vector<OpenSite> open, room_open;
+  open_sites(rooms, open, room_open);
   share_open_sites(engine_, view_, open);
-  const uint64_t room_base = held_.room_base();
-  std::vector<OpenSite> chosen;
-  for (const OpenSite& s : open) {
-    if (s.key >= room_base || (capped && engine_.size() + chosen.size() >= result_.max_parts)) break;
-    chosen.push_back(s);
-  }
-  if (rooms) room_births(chosen, open);
-  return chosen;
+  if (rooms) share_open_sites(engine_, view_, room_open);
+  if (capped && engine_.size() + open.size() > result_.max_parts)
+    open.resize(result_.max_parts > engine_.size() ? result_.max_parts - engine_.size() : 0);
+  return choose_wave(open, room_open, {}, kRoomClearance * plan_.rest_distance(o_));
 }
 
 /// The wave's newborns at `chosen` (wave_sites): ids in that order on every
@@ -338,24 +381,6 @@ int FillPasses::add_wave(const std::vector<OpenSite>& chosen) {
   next_id_ += chosen.size();
   newest_ = engine_.add_decided_particles(mine, places, chosen.size()) + chosen.size() - 1;
   return static_cast<int>(chosen.size());
-}
-
-/// While the fill is sparse (below kRoomUntil of the expected count): a
-/// newborn at each open room site (`open`, past the sites' keys; the same
-/// on every process, in key order) where it overlaps none of this wave's
-/// newborns (`chosen`).
-void FillPasses::room_births(std::vector<OpenSite>& chosen, const std::vector<OpenSite>& open) {
-  const double clearance = kRoomClearance * plan_.rest_distance(o_);
-  const uint64_t room_base = held_.room_base();
-  CentreGrid wave(clearance);
-  for (size_t k = 0; k < chosen.size(); ++k) wave.insert(chosen[k].position, static_cast<uint32_t>(k));
-  for (const OpenSite& s : open) {
-    if (s.key < room_base) continue;
-    const Vec3& at = s.position;
-    if (wave.any_near(at, [&](uint32_t j) { return length(chosen[j].position - at) < clearance; })) continue;
-    wave.insert(at, static_cast<uint32_t>(chosen.size()));
-    chosen.push_back(s);
-  }
 }
 
 /// Room births while the fill is sparse, where the last view reached far

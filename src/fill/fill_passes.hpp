@@ -12,8 +12,9 @@
 // stream keyed by (seed, step, site) (counter_rng.hpp), and each site's room
 // test runs on the process that decides it (site_verdicts.hpp): the same
 // newborns on any engine and any MPI rank count. A wave of equal spheres is
-// chosen alike on every process (sites and ids), but each process builds
-// and hands over only the newborns at the sites it decides.
+// decided per process, each its own sites (wave_choice.hpp), and numbered
+// in the processes' order; pass 2's capped waves are chosen alike on every
+// process, each building only the newborns at the sites it decides.
 #pragma once
 #include <cstdint>
 #include <optional>
@@ -67,9 +68,12 @@ class FillPasses {
   void take_birth_view();
   double birth_reach() const;
   bool room_births_due() const;
-  std::vector<OpenSite> wave_sites();
+  int birth_wave_of_sizes();
+  void open_sites(bool rooms, std::vector<OpenSite>& open, std::vector<OpenSite>& room_open) const;
+  std::vector<OpenSite> own_wave_sites(bool rooms);
+  int add_own_wave(const std::vector<OpenSite>& mine);
+  std::vector<OpenSite> wave_sites(bool capped, bool rooms);
   int add_wave(const std::vector<OpenSite>& chosen);
-  void room_births(std::vector<OpenSite>& chosen, const std::vector<OpenSite>& open);
   Particle newborn_at(const Vec3& position, double radius, uint64_t site);
   Particle newborn(const Vec3& position, double radius, uint64_t site, uint64_t id) const;
   bool newborns_clear(const Vec3& site, double radius, double clearance) const;
