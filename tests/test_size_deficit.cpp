@@ -1,6 +1,8 @@
 // SizeDeficit: which size class the next sphere takes (src/fill/size_deficit.hpp).
 #include <doctest/doctest.h>
 
+#include <vector>
+
 #include "fill/size_deficit.hpp"
 #include "pfill/radius_distribution.hpp"
 
@@ -157,4 +159,23 @@ TEST_CASE("size classes: a continuous law's bin may lose spheres below its share
   int mix_lost = 0;
   while (mix.may_lose(0) && mix_lost < 100) mix.remove(1), ++mix_lost;
   CHECK(mix_lost <= 2);
+}
+
+TEST_CASE("size classes: counts summed over processes set what a count of the whole set gives") {
+  // (FillPasses::count_sizes on the LAMMPS engine: each rank counts its own spheres.)
+  const auto law = RadiusDistribution::parse("lognormal:1,0.2");
+  std::vector<double> mine, theirs;
+  for (int i = 0; i < 300; ++i) (i % 3 ? mine : theirs).push_back(0.7 + 0.002 * i);
+  SizeDeficit whole(law), a(law), b(law), summed(law);
+  std::vector<double> all = mine;
+  all.insert(all.end(), theirs.begin(), theirs.end());
+  whole.recount(all);
+  a.recount(mine);
+  b.recount(theirs);
+  std::vector<size_t> counts(a.counts());
+  for (size_t k = 0; k < counts.size(); ++k) counts[k] += b.counts()[k];
+  summed.set_counts(counts);
+  CHECK(summed.counts() == whole.counts());
+  CHECK(summed.candidates() == whole.candidates());
+  CHECK(summed.candidates() != a.candidates());  // (one process's own count alone would choose otherwise)
 }

@@ -113,7 +113,7 @@ void FillPasses::pass1() {
   };
   // The first wave's view too (no particle yet): else it would be the
   // default, complete one, and every process would build that whole wave.
-  if (!sizes_) take_birth_view();
+  if (!sizes_ || plan_.waves) take_birth_view();
   bool overfull = false;
   while (!overfull) {
     const std::vector<int> born = run_batch(!(ke.waiting() || collisions.waiting()));
@@ -288,28 +288,6 @@ int FillPasses::birth_wave() {
   return add_wave(wave_sites(capped, rooms));
 }
 
-/// Unequal spheres: room for each newborn's own radius, and the wave's
-/// large newborns may reach each other across the sites' spacing (every
-/// process walks every site: their births depend on each other in order).
-int FillPasses::birth_wave_of_sizes() {
-  const bool capped = reporter_.phase() == FillPhase::Pass2;
-  std::vector<Particle> newborns;
-  const RoomGrid room(snapshot_, snapshot_radii_, plan_.birth_clearance, plan_.max_radius);
-  for (size_t k = 0; k < held_.sites.size(); ++k) {
-    const BirthSite& site = held_.sites[k];
-    if (capped && engine_.size() + newborns.size() >= result_.max_parts) break;
-    const double radius = newborn_radius([&](double r) {
-      if (!room.has_room(site.position, r)) return false;
-      for (const Particle& b : newborns)
-        if (length(b.position - site.position) < plan_.birth_clearance * (r + b.radius)) return false;
-      return true;
-    }, k);
-    if (radius > 0) newborns.push_back(newborn_at(site.position, radius, k));
-  }
-  if (!newborns.empty()) newest_ = engine_.add_particles(newborns) + newborns.size() - 1;
-  return static_cast<int>(newborns.size());
-}
-
 /// Equal spheres: this process's open wave sites and, when `rooms`, its
 /// open room sites (each in key order), each site's room tested here.
 void FillPasses::open_sites(bool rooms, std::vector<OpenSite>& open, std::vector<OpenSite>& room_open) const {
@@ -393,6 +371,8 @@ bool FillPasses::room_births_due() const {
 /// How far from its sites a process must see for the next births' room
 /// tests: the birth clearance, and the room sites' while those may birth.
 double FillPasses::birth_reach() const {
+  // (unequal spheres: a newborn of the largest radius against another)
+  if (sizes_) return plan_.birth_clearance * 2 * plan_.max_radius;
   double share = plan_.birth_clearance;
   if (held_.total_room_sites > 0 && static_cast<double>(engine_.size()) < kRoomUntil * plan_.expected)
     share = std::max(share, kRoomClearance);
@@ -401,17 +381,18 @@ double FillPasses::birth_reach() const {
 
 /// The room tests' view of the particles (ParticleEngine::birth_view): on
 /// the LAMMPS engine at P > 1 this rank's atoms and those within the reach
-/// of its sub-domain; unequal spheres, whose births depend on each other in
-/// the sites' order, see every particle and decide every site.
+/// of its sub-domain; the report's schedule of unequal spheres, whose
+/// births depend on each other in the sites' order, sees every particle
+/// and decides every site.
 void FillPasses::take_birth_view() {
   view_reach_ = birth_reach();
-  view_ = engine_.birth_view(view_reach_, sizes_.has_value());
+  view_ = engine_.birth_view(view_reach_, sizes_ && !plan_.waves);
   hand_over_sites(held_, engine_, view_);  // (split sites, when a balance moved the sub-domains)
   snapshot_ = std::move(view_.centres);
   snapshot_radii_.clear();
   if (sizes_) {
     snapshot_radii_ = std::move(view_.radii);
-    sizes_->recount(snapshot_radii_);
+    count_sizes();
   }
   view_.radii.clear();
   newborns_.clear();

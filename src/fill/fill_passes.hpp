@@ -69,6 +69,9 @@ class FillPasses {
   double birth_reach() const;
   bool room_births_due() const;
   int birth_wave_of_sizes();
+  std::vector<SiteFits> size_fits() const;
+  double class_radius(uint64_t site, size_t c) const;
+  void count_sizes();
   void open_sites(bool rooms, std::vector<OpenSite>& open, std::vector<OpenSite>& room_open) const;
   std::vector<OpenSite> own_wave_sites(bool rooms);
   int add_own_wave(const std::vector<OpenSite>& mine);

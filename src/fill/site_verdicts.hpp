@@ -73,4 +73,32 @@ inline void share_open_sites(ParticleEngine& engine, const BirthView& view, std:
   std::sort(open.begin(), open.end(), [](const OpenSite& a, const OpenSite& b) { return a.key < b.key; });
 }
 
+/// Unequal spheres' wave: a site with room for some size class, by its
+/// index among the sites, with a bit for each class whose radius (drawn
+/// from the site's stream of that class) has room there.
+struct SiteFits {
+  uint64_t site = 0;
+  std::vector<uint64_t> bits;
+  bool fits(size_t c) const { return (bits[c / 64] >> (c % 64)) & 1u; }
+};
+
+/// Every process's SiteFits on every process, in site order (an
+/// MPI_Allgatherv of 1 + classes / 64 words an open site on the LAMMPS
+/// engine at P > 1). One process: unchanged.
+inline void share_site_fits(ParticleEngine& engine, const BirthView& view, size_t classes, std::vector<SiteFits>& fits) {
+  if (view.complete()) return;
+  const size_t width = 1 + (classes + 63) / 64;
+  std::vector<uint64_t> words;
+  words.reserve(width * fits.size());
+  for (const SiteFits& f : fits) {
+    words.push_back(f.site);
+    words.insert(words.end(), f.bits.begin(), f.bits.end());
+  }
+  engine.gather_over_processes(words);
+  fits.clear();
+  for (size_t w = 0; w + width <= words.size(); w += width)
+    fits.push_back({words[w], std::vector<uint64_t>(words.begin() + static_cast<long>(w) + 1, words.begin() + static_cast<long>(w + width))});
+  std::sort(fits.begin(), fits.end(), [](const SiteFits& a, const SiteFits& b) { return a.site < b.site; });
+}
+
 }  // namespace pfill

@@ -85,6 +85,13 @@ void SizeDeficit::recount(const std::vector<double>& radii) {
   total_ = radii.size();
 }
 
+void SizeDeficit::set_counts(const std::vector<size_t>& counts) {
+  if (counts.size() != count_.size()) return;
+  count_ = counts;
+  total_ = 0;
+  for (size_t c : counts) total_ += c;
+}
+
 void SizeDeficit::remove(double radius) {
   size_t& c = count_[class_of(radius)];
   if (c > 0) --c, --total_;

@@ -49,6 +49,10 @@ class SizeDeficit {
 
   /// Counts the spheres present (their radii) afresh.
   void recount(const std::vector<double>& radii);
+  /// Each class's count, and setting them all (the sums of every process's
+  /// own counts, when the spheres are split over processes).
+  const std::vector<size_t>& counts() const { return count_; }
+  void set_counts(const std::vector<size_t>& counts);
   void add(double radius) { ++count_[class_of(radius)], ++total_; }
   void remove(double radius);
 

@@ -105,6 +105,7 @@ BirthView birth_halo(const LammpsSession& s, double reach) {
   view.centres.reserve(static_cast<size_t>(nl) + got.size() / 4);
   view.radii.reserve(view.centres.capacity());
   for (int i = 0; i < nl; ++i) view.centres.push_back({x[i][0], x[i][1], x[i][2]}), view.radii.push_back(radius[i]);
+  view.own = static_cast<size_t>(nl);
   for (size_t k = 0; k + 3 < got.size(); k += 4)
     view.centres.push_back({got[k], got[k + 1], got[k + 2]}), view.radii.push_back(got[k + 3]);
   return view;

@@ -7,6 +7,7 @@
 /// and the sites inside its sub-domain (each site decided by exactly one
 /// rank), so no rank gathers all positions for births.
 #pragma once
+#include <cstddef>
 #include <vector>
 
 #include "pfill/vec3.hpp"
@@ -16,6 +17,9 @@ namespace pfill {
 struct BirthView {
   std::vector<Vec3> centres;   ///< this process's particles and its halo (complete: all)
   std::vector<double> radii;   ///< their radii, in the same order
+  /// The first `own` centres are this process's own particles (the rest
+  /// its halo); a complete view: all of them.
+  size_t own = 0;
   /// Every rank's sub-domain, in rank order, and this process's rank;
   /// empty: one process, which decides every site (a complete view).
   std::vector<Box3> regions;

@@ -89,12 +89,13 @@ class ParticleEngine {
   /// What the births' room test sees here (birth_view.hpp): every particle
   /// within `reach` of the sites this process decides, and which sites
   /// those are. `complete`: every particle and every site, whatever the
-  /// process count (unequal spheres: their births depend on each other in
-  /// the sites' order). By default (one process): read_particles, every site.
+  /// process count (the report's schedule of unequal spheres: their births
+  /// depend on each other in the sites' order). By default (one process): read_particles, every site.
   virtual BirthView birth_view(double reach, bool complete) {
     (void)reach, (void)complete;
     BirthView view;
     for (const Particle& p : read_particles()) view.centres.push_back(p.position), view.radii.push_back(p.radius);
+    view.own = view.centres.size();
     return view;
   }
   /// What the finish decides on here (local_view.hpp): this process's
