@@ -21,7 +21,8 @@ class CounterRng {
   using result_type = uint64_t;
 
   /// The stream of (seed, wave, site); `stream` parts one newborn's draws
-  /// by use (0: speed and direction, 1: the radius), each its own stream.
+  /// by use (0: speed and direction, 1: the radius at the report's
+  /// schedule, 2 + c: size class c's radius in a wave), each its own stream.
   CounterRng(uint64_t seed, uint64_t wave, uint64_t site, uint64_t stream = 0)
       : state_(mix(mix(mix(mix(seed) ^ wave) ^ site) ^ stream)) {}
 
