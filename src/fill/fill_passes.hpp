@@ -14,7 +14,10 @@
 // newborns on any engine and any MPI rank count. A wave of equal spheres is
 // decided per process, each its own sites (wave_choice.hpp), and numbered
 // in the processes' order; pass 2's capped waves are chosen alike on every
-// process, each building only the newborns at the sites it decides.
+// process, each building only the newborns at the sites it decides. A wave
+// of unequal spheres is walked alike on every process from each site's
+// answer for every size class, given by the process that decides it
+// (size_wave.cpp).
 #pragma once
 #include <cstdint>
 #include <optional>
