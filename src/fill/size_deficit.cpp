@@ -165,6 +165,8 @@ double SizeDeficit::draw(size_t k, std::mt19937_64& rng) const {
   return sizes_.draw_in_class(classes_, k, std::uniform_real_distribution<double>(0, 1)(rng));
 }
 
+double SizeDeficit::draw_at(size_t k, double u) const { return sizes_.draw_in_class(classes_, k, u); }
+
 size_t SizeDeficit::class_of(double radius) const {
   // Classes ascend: the first whose top reaches the radius, or the one below
   // when the radius (read back as a float) lies nearer its top.

@@ -77,6 +77,8 @@ class SizeDeficit {
   double take_within(double room, std::mt19937_64& rng);
   /// A radius of class k, drawn by the law inside the class.
   double draw(size_t k, std::mt19937_64& rng) const;
+  /// The radius of class k at the quantile u in [0, 1) of the law inside the class.
+  double draw_at(size_t k, double u) const;
   size_t class_of(double radius) const;
   size_t classes() const { return classes_.size(); }
 

@@ -10,7 +10,6 @@
 // with room, never the particles) to the same newborns. Each builds only
 // those at its own sites.
 #include <algorithm>
-#include <random>
 
 #include "fill/counter_rng.hpp"
 #include "fill/fill_passes.hpp"
@@ -72,11 +71,10 @@ std::vector<SiteFits> FillPasses::size_fits() const {
 }
 
 /// The radius class c draws at `site` in this wave: from the stream of
-/// (seed, step, site, 2 + c), the same on whichever process asks.
+/// (seed, step, site, 2 + c), the same on whichever process asks (one
+/// uniform: no generator to seed for each class of each site).
 double FillPasses::class_radius(uint64_t site, size_t c) const {
-  CounterRng draws(o_.seed, engine_.steps_done(), site, 2 + c);
-  std::mt19937_64 rng(draws());
-  return sizes_->draw(c, rng);
+  return sizes_->draw_at(c, CounterRng(o_.seed, engine_.steps_done(), site, 2 + c).uniform());
 }
 
 /// The size classes' counts over every process: each counts its own
