@@ -71,8 +71,9 @@ fi
 
 # Unequal spheres (--radii, 2026-12-06): hard by each pair's smaller radius,
 # inside, the count near the OpenCL engine's (495 at seed 1; LAMMPS 493 at
-# -np 1 and 2); they take the whole set on every rank, so with %r rank 0's
-# part holds them all and the join gives the rows of the single file.
+# -np 1 and 2); their births are decided per rank, but their finish takes
+# the whole set on every rank, so with %r rank 0's part holds them all and
+# the join gives the rows of the single file.
 run "$pfill" fill --builtin sphere -n 500 --radii discrete:1:0.5,2:0.5 --seed 1 --engine lammps -q \
   -o "$tmp/mix.csv" --report "$tmp/m.json" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
 check_report "radii 1:2" "$tmp/m.json" 470 520
