@@ -47,6 +47,19 @@ struct OpenSite {
   Vec3 position;
 };
 
+/// A site as 4 words for gather_over_processes (key, x, y, z), appended
+/// to `words`; and the sites such words carry.
+inline void append_words(const OpenSite& s, std::vector<uint64_t>& words) {
+  words.insert(words.end(), {s.key, bits_of(s.position.x), bits_of(s.position.y), bits_of(s.position.z)});
+}
+inline std::vector<OpenSite> sites_of_words(const std::vector<uint64_t>& words) {
+  std::vector<OpenSite> sites;
+  sites.reserve(words.size() / 4);
+  for (size_t w = 0; w + 4 <= words.size(); w += 4)
+    sites.push_back({words[w], Vec3(double_of(words[w + 1]), double_of(words[w + 2]), double_of(words[w + 3]))});
+  return sites;
+}
+
 /// Appends to `open` the sites of `sites` this process decides that
 /// `has_room(position)`, each with key `key_of(k)`.
 template <class KeyOf, class HasRoom>
@@ -64,12 +77,9 @@ inline void share_open_sites(ParticleEngine& engine, const BirthView& view, std:
   if (view.complete()) return;
   std::vector<uint64_t> words;
   words.reserve(4 * open.size());
-  for (const OpenSite& s : open)
-    words.insert(words.end(), {s.key, bits_of(s.position.x), bits_of(s.position.y), bits_of(s.position.z)});
+  for (const OpenSite& s : open) append_words(s, words);
   engine.gather_over_processes(words);
-  open.clear();
-  for (size_t w = 0; w + 4 <= words.size(); w += 4)
-    open.push_back({words[w], Vec3(double_of(words[w + 1]), double_of(words[w + 2]), double_of(words[w + 3]))});
+  open = sites_of_words(words);
   std::sort(open.begin(), open.end(), [](const OpenSite& a, const OpenSite& b) { return a.key < b.key; });
 }
 

@@ -162,7 +162,7 @@ double SizeDeficit::binned_ks_with(size_t k, int change) const {
 }
 
 double SizeDeficit::draw(size_t k, std::mt19937_64& rng) const {
-  return sizes_.draw_in_class(classes_, k, std::uniform_real_distribution<double>(0, 1)(rng));
+  return draw_at(k, std::uniform_real_distribution<double>(0, 1)(rng));
 }
 
 double SizeDeficit::draw_at(size_t k, double u) const { return sizes_.draw_in_class(classes_, k, u); }

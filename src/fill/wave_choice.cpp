@@ -4,7 +4,6 @@
 #include <algorithm>
 
 #include "fill/centre_grid.hpp"
-#include "fill/word_bits.hpp"
 
 namespace pfill {
 namespace {
@@ -29,16 +28,8 @@ std::vector<uint64_t> border_site_words(const BirthView& view, const std::vector
   std::vector<uint64_t> words;
   if (view.complete()) return words;
   for (const OpenSite& s : open)
-    if (near_another_region(view, s.position, reach))
-      words.insert(words.end(), {s.key, bits_of(s.position.x), bits_of(s.position.y), bits_of(s.position.z)});
+    if (near_another_region(view, s.position, reach)) append_words(s, words);
   return words;
-}
-
-std::vector<OpenSite> sites_of_words(const std::vector<uint64_t>& words) {
-  std::vector<OpenSite> sites;
-  for (size_t w = 0; w + 4 <= words.size(); w += 4)
-    sites.push_back({words[w], Vec3(double_of(words[w + 1]), double_of(words[w + 2]), double_of(words[w + 3]))});
-  return sites;
 }
 
 std::vector<OpenSite> choose_wave(const std::vector<OpenSite>& open, const std::vector<OpenSite>& rooms,

@@ -26,11 +26,10 @@ namespace pfill {
 
 /// The sites of `open` (this process's open wave sites) within `reach` of
 /// another process's region, as words (key, x, y, z) for
-/// gather_over_processes: what the others' room sites must keep clear of.
+/// gather_over_processes (site_verdicts.hpp's append_words; read back
+/// with sites_of_words): what the others' room sites must keep clear of.
 /// None on a complete view.
 std::vector<uint64_t> border_site_words(const BirthView& view, const std::vector<OpenSite>& open, double reach);
-/// The sites those words carry.
-std::vector<OpenSite> sites_of_words(const std::vector<uint64_t>& words);
 
 /// A wave's newborns on this process, in their order: its open wave sites
 /// (`open`, key order), then each of its open room sites (`rooms`, key
