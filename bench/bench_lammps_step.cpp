@@ -4,9 +4,12 @@
 // the dashpot; a share of the spheres moving at pass 1's newborn speeds, so
 // lists are rebuilt as in pass 1) or as the finish relaxes (FIRE, the wall
 // moved in). Steps run in chunks of 100 with a read of the records between,
-// as the finish reads them. Prints ms a step (rank 0), the records' last
-// kinetic energy and colliding pairs (to compare two builds' physics).
-//   mpirun -np P build/bench/bench_lammps_step MESH PARTICLES [STEPS [pass|fire [SEED]]]
+// as the finish reads them; `held`: FIRE as the finish's relaxation of its
+// last jams (ParticleEngine::hold), around 16 of the spheres (within 6 r
+// moving, 3 r further held, the rest out). Prints ms a step (rank 0), the
+// records' last kinetic energy and colliding pairs (to compare two builds'
+// physics).
+//   mpirun -np P build/bench/bench_lammps_step MESH PARTICLES [STEPS [pass|fire|held [SEED]]]
 // With PFILL_LAMMPS_LOG=FILE, LAMMPS' own timing breakdown goes to FILE.
 #include <chrono>
 #include <ctime>
@@ -18,6 +21,7 @@
 #include <vector>
 
 #include "fill/fill_plan.hpp"
+#include "fill/near_region.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/fill.hpp"
@@ -63,12 +67,13 @@ ScalarGrid mesh_field(const std::string& mesh, double r) {
 
 int main(int argc, char** argv) {
   if (!lammps_available() || argc < 3) {
-    std::fprintf(stderr, "usage: mpirun -np P bench_lammps_step MESH PARTICLES [STEPS [pass|fire [SEED]]]\n");
+    std::fprintf(stderr, "usage: mpirun -np P bench_lammps_step MESH PARTICLES [STEPS [pass|fire|held [SEED]]]\n");
     return 1;
   }
   const MpiWorld world = lammps_mpi_start();
   const int steps = argc > 3 ? std::atoi(argv[3]) : 1000;
-  const bool fire = argc > 4 && std::string(argv[4]) == "fire";
+  const std::string mode = argc > 4 ? argv[4] : "pass";
+  const bool fire = mode == "fire" || mode == "held";
   const unsigned seed = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 1;
   const ParticleSet set = read_particles(argv[2]);
   const double r = set.radii.at(0);
@@ -89,6 +94,10 @@ int main(int argc, char** argv) {
     if (!fire && i % 20 == 0 && length(d) > 0) ps[i].velocity = d * (s(rng) * top / length(d));
   }
   e->add_particles(ps);
+  std::vector<Vec3> places;
+  for (size_t i = 0; mode == "held" && i < 16; ++i) places.push_back(ps[i * ps.size() / 16].position);
+  size_t taking_part = ps.size();
+  if (mode == "held") taking_part = e->hold(NearParts(places, 6 * r, 3 * r)).value_or(ps.size());
   e->run_steps(100);
   e->read_history();
   const auto t0 = Clock::now();
@@ -101,9 +110,9 @@ int main(int argc, char** argv) {
   const double t = std::chrono::duration<double>(Clock::now() - t0).count();
   const double cpu = static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC;
   if (world.rank == 0 && !h.empty())
-    std::printf("%s N %zu, P %d, %d steps: %.3f s, %.3f ms a step (rank 0 CPU %.3f ms); last step: ke %.6g, "
-                "colliding %u, flagged %u\n",
-                fire ? "fire" : "pass", e->size(), world.size, steps, t, 1e3 * t / steps, 1e3 * cpu / steps,
+    std::printf("%s N %zu (%zu moving or held), P %d, %d steps: %.3f s, %.3f ms a step (rank 0 CPU %.3f ms); last "
+                "step: ke %.6g, colliding %u, flagged %u\n",
+                mode.c_str(), e->size(), taking_part, world.size, steps, t, 1e3 * t / steps, 1e3 * cpu / steps,
                 h.back().kinetic_energy, h.back().colliding_pairs, h.back().flagged);
   return 0;
 }

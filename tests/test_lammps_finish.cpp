@@ -9,10 +9,13 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <optional>
+#include <random>
 #include <set>
 #include <vector>
 
 #include "fill/finish.hpp"
+#include "fill/near_region.hpp"
 #include "lammps_fixtures.hpp"
 #include "pfill/engine/local_view.hpp"
 #include "pfill/engine/reference.hpp"
@@ -188,4 +191,102 @@ TEST_CASE("lammps engine: the finish takes the set split over the ranks, each id
   } else {
     CHECK(std::fabs(static_cast<double>(split.size()) - static_cast<double>(whole.size())) <= 0.03 * whole.size());
   }
+}
+
+// The finish's last jams relaxed where they are (ParticleEngine::hold): on
+// LAMMPS the spheres near a place move as on an engine of their own that
+// holds only them and, as good as infinitely heavy, those around them
+// (the reference engine here, as finish.cpp's relax_near builds it); held
+// spheres and those out of it do not move at all; released, all move.
+TEST_CASE("lammps engine: a hold moves the spheres near the places as an engine of their own, the rest still") {
+  if (!lammps_available()) return;
+  const ScalarGrid field = test::ball_field(kBall, kR / 3);
+  std::vector<Particle> start = lattice(1.9 * kR);  // every neighbour 5% of r too close
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> jitter(-0.05 * kR, 0.05 * kR);  // so that no push cancels another
+  for (Particle& q : start) q.position += Vec3(jitter(rng), jitter(rng), jitter(rng));
+  EngineParams p = base_params();
+  p.cutoff_sigma = 0;  // the finish's: purely repulsive, so no pair reaches from moving to out
+  p.rest_distance = 2 * kR * 1.001;
+  const std::vector<Vec3> places{{0.05, 0, 0}, {-0.4, 0.3, 0.1}};
+  const double reach = 2.5 * kR, hold = 2.5 * kR;
+  const NearRegion region = region_near(start, places, reach, hold);
+  REQUIRE(region.moving.size() > 20);
+  REQUIRE(region.held.size() > 20);
+  REQUIRE(region.moving.size() + region.held.size() < start.size() / 2);
+
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(p);
+  lmp->share_field(field);
+  lmp->add_particles(start);
+  const std::optional<size_t> taking_part = lmp->hold(NearParts(places, reach, hold));
+  REQUIRE(taking_part.has_value());
+  CHECK(*taking_part == region.moving.size() + region.held.size());
+  lmp->run_steps(200);
+  const std::vector<Particle> held = lmp->read_particles();
+
+  ReferenceEngine own(p);
+  own.set_field(field);
+  own.add_particles(region_particles(start, region, 1e30));
+  own.run_steps(200);
+  std::vector<Vec3> expected(start.size());
+  for (size_t i = 0; i < start.size(); ++i) expected[i] = start[i].position;  // held and out: still
+  for (const Particle& q : own.read_particles()) expected[q.id] = q.position;
+  REQUIRE(held.size() == start.size());
+  size_t moved = 0;
+  double worst = 0;
+  std::vector<bool> moving(start.size(), false);
+  for (uint32_t i : region.moving) moving[i] = true;
+  for (size_t i = 0; i < held.size(); ++i) {
+    const size_t k = held[i].id - 1;  // lattice ids from 1, in order
+    REQUIRE(k < start.size());
+    if (!moving[k]) {
+      CHECK(held[i].position == start[k].position);
+      continue;
+    }
+    moved += length(held[i].position - start[k].position) > 1e-4 * kR;
+    worst = std::max(worst, length(held[i].position - expected[k]));
+  }
+  INFO(moved << " of " << region.moving.size() << " moving spheres moved; worst difference " << worst);
+  CHECK(moved > region.moving.size() / 2);
+  CHECK(worst < 1e-9 * kR);
+
+  lmp->release_hold();
+  lmp->run_steps(5);
+  const std::vector<Particle> released = lmp->read_particles();
+  REQUIRE(released.size() == held.size());  // (both in the engine's order: nothing removed)
+  size_t out_moved = 0;
+  for (size_t i = 0; i < released.size(); ++i)
+    if (!moving[released[i].id - 1]) out_moved += length(released[i].position - held[i].position) > 1e-6 * kR;
+  CHECK(out_moved > start.size() / 4);
+}
+
+TEST_CASE("lammps engine: the finish's last jams relaxed where they are meet the bound as relaxing all does") {
+  if (!lammps_available()) return;
+  const ScalarGrid field = test::ball_field(kBall, kR / 3);
+  const std::vector<Particle> start = lattice(1.5 * kR);
+  FinishSettings s;
+  s.radius = kR;
+  s.max_overlap = 0.001;
+  s.hole_rounds = 0;
+  s.first_id = start.size() + 1;
+  s.near_share = 0;
+  FinishStats all, near;
+  const std::shared_ptr<ProcessGroup> group = lammps_process_group();
+  const ParticleSet by_all =
+      gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, start, s, all), true);
+  s.near_share = 1;
+  s.near_min_spheres = 0;
+  s.near_reach = 3;
+  const ParticleSet by_near =
+      gather_particles(*group, finish_packing(lammps_engine_factory(), base_params(), field, start, s, near), true);
+  INFO("all: " << all.steps << " steps, " << by_all.size() << " spheres; near: " << near.steps << " steps, "
+               << by_near.size() << " spheres, " << near.near_rounds << " of " << near.rounds << " relaxations near");
+  CHECK(all.near_rounds == 0);
+  CHECK(near.near_rounds > 0);
+  CHECK(near.near_rounds < near.rounds);  // the first is of all
+  CHECK(worst_overlap(by_near) <= 0.001);
+  CHECK(near.forced == 0);
+  CHECK(by_near.size() + near.removed == start.size() + near.inserted);
+  CHECK(std::fabs(static_cast<double>(by_near.size()) - static_cast<double>(by_all.size())) <= 0.03 * by_all.size());
+  for (const Vec3& q : by_near.positions) CHECK(length(q) <= kBall - kR * (1 - 1e-3));
 }

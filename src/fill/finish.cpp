@@ -121,11 +121,12 @@ class Finisher {
       for (const Overlap& o : overlaps)
         if (o.fraction > s_.max_overlap && view_.counts(o)) {
           ++over;
-          if (view_.complete()) hot_.push_back(0.5 * (view_.set.positions[o.i] + view_.set.positions[o.j]));
+          hot_.push_back(0.5 * (view_.set.positions[o.i] + view_.set.positions[o.j]));
         }
       // What steers the rounds is counted over every process alike.
       over = total_over_processes(*engine_, view_, over);
       const double n = static_cast<double>(engine_->size());
+      share_hot(over, n);
       if (over > 0) {
         if (round + 1 >= s_.max_rounds) {
           stats_.forced += remove(one_of_each_over(view_, overlaps, s_.max_overlap));
@@ -312,12 +313,45 @@ class Finisher {
   }
 
   /// A relaxation: of the spheres near the last round's pairs over the
-  /// bound (`hot_`) where they are few (relax_near), else of all.
+  /// bound (`hot_`) where they are few (relax_held, relax_near), else of all.
   bool relax() {
     ++stats_.rounds;
-    if (!hot_.empty() && engine_->size() >= s_.near_min_spheres)
+    if (!hot_.empty() && engine_->size() >= s_.near_min_spheres) {
+      // (held at least a pair's reach deep: the engine's hold leaves out the rest's pairs)
+      const EngineConstants& c = engine_->constants();
+      const double hold = std::max(s_.near_hold * s_.radius, c.list_reach - c.skin);
+      const NearParts part_of(hot_, s_.near_reach * s_.radius, hold);
+      if (const std::optional<size_t> taking_part = engine_->hold(part_of)) return relax_held(*taking_part);
       if (const std::optional<bool> stalled = relax_near()) return *stalled;
+    }
     return relax_on(*engine_, engine_->size());
+  }
+
+  /// Every process's pairs over the bound (`over` of them), for a local
+  /// relaxation of their spheres: each process sees only those near its
+  /// own. While they may be few enough (each has two moving spheres), all
+  /// go to every process; else none.
+  void share_hot(size_t over, double n) {
+    if (view_.complete()) return;
+    // (alike on every process: both counts are totals)
+    if (n < static_cast<double>(s_.near_min_spheres) || 2.0 * static_cast<double>(over) > s_.near_share * n) {
+      hot_.clear();
+      return;
+    }
+    hot_ = places_everywhere(*engine_, std::move(hot_));
+  }
+
+  /// The relaxation of the engine's spheres near `hot_` where they are
+  /// (the engine holds the others: ParticleEngine::hold), `taking_part`
+  /// of them moving or held; of all where those are too many.
+  bool relax_held(size_t taking_part) {
+    const size_t n = engine_->size();
+    const bool local = static_cast<double>(taking_part) <= s_.near_share * static_cast<double>(n);
+    if (!local) engine_->release_hold();
+    stats_.near_rounds += local ? 1 : 0;
+    const bool stalled = relax_on(*engine_, n);
+    if (local) engine_->release_hold();
+    return stalled;
   }
 
   /// find_holes in `set`, at most one a sphere, `deep_` inside: by the
@@ -442,7 +476,7 @@ class Finisher {
   std::unique_ptr<ParticleEngine> engine_;
   std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> make_;
   EngineParams params_;      ///< the relaxation's engines'
-  std::vector<Vec3> hot_;    ///< where the last round's pairs over the bound lie (their midpoints; one process only)
+  std::vector<Vec3> hot_;    ///< where the last round's pairs over the bound lie (their midpoints; every process's: share_hot)
   FinishView view_;          ///< what this process decides the round on
   std::function<void(size_t, uint32_t)> progress_;
 };

@@ -46,6 +46,17 @@ std::vector<size_t> picked_everywhere(ParticleEngine& engine, const FinishView& 
   return std::vector<size_t>(mine.begin(), mine.end());
 }
 
+std::vector<Vec3> places_everywhere(ParticleEngine& engine, std::vector<Vec3> mine) {
+  std::vector<uint64_t> words;
+  words.reserve(3 * mine.size());
+  for (const Vec3& p : mine) words.insert(words.end(), {bits_of(p.x), bits_of(p.y), bits_of(p.z)});
+  engine.gather_over_processes(words);
+  mine.clear();
+  for (size_t w = 0; w + 3 <= words.size(); w += 3)
+    mine.emplace_back(double_of(words[w]), double_of(words[w + 1]), double_of(words[w + 2]));
+  return mine;
+}
+
 namespace {
 
 /// Whether p lies within `d` of another process's sub-domain.

@@ -52,6 +52,9 @@ size_t total_over_processes(ParticleEngine& engine, const FinishView& view, size
 std::vector<size_t> picked_everywhere(ParticleEngine& engine, const FinishView& view,
                                       const std::vector<size_t>& picked);
 
+/// Every process's `mine`, one after another in process order, on every process.
+std::vector<Vec3> places_everywhere(ParticleEngine& engine, std::vector<Vec3> mine);
+
 /// Holes this process decides (in its sub-domain), less those within
 /// `clearance` of a hole a lower process decided across a border (each
 /// process finds holes `clearance` apart in its own sub-domain only).

@@ -1,26 +1,33 @@
 // The spheres around a few places (near_region.hpp).
 #include "fill/near_region.hpp"
 
-#include "fill/centre_grid.hpp"
+#include <algorithm>
 
 namespace pfill {
+
+NearParts::NearParts(const std::vector<Vec3>& places, double reach, double hold)
+    : places_(places), reach2_(reach * reach), outer2_((reach + hold) * (reach + hold)), grid_(places, reach + hold) {}
+
+ParticleEngine::StepPart NearParts::operator()(const Vec3& p) const {
+  double nearest2 = outer2_;
+  grid_.for_near(p, [&](uint32_t k) {
+    const Vec3 d = places_[k] - p;
+    nearest2 = std::min(nearest2, dot(d, d));
+  });
+  if (nearest2 < reach2_) return ParticleEngine::StepPart::moving;
+  return nearest2 < outer2_ ? ParticleEngine::StepPart::held : ParticleEngine::StepPart::out;
+}
 
 NearRegion region_near(const std::vector<Particle>& particles, const std::vector<Vec3>& places, double reach,
                        double hold) {
   NearRegion region;
   if (places.empty()) return region;
-  const double outer = reach + hold;
-  const CentreGrid grid(places, outer);  // a cell of `outer`: every place within it lies in the 27 around
+  const NearParts part_of(places, reach, hold);
   for (size_t i = 0; i < particles.size(); ++i) {
-    const Vec3& p = particles[i].position;
-    double nearest2 = outer * outer;
-    grid.for_near(p, [&](uint32_t k) {
-      const Vec3 d = places[k] - p;
-      nearest2 = std::min(nearest2, dot(d, d));
-    });
-    if (nearest2 < reach * reach)
+    const ParticleEngine::StepPart part = part_of(particles[i].position);
+    if (part == ParticleEngine::StepPart::moving)
       region.moving.push_back(static_cast<uint32_t>(i));
-    else if (nearest2 < outer * outer)
+    else if (part == ParticleEngine::StepPart::held)
       region.held.push_back(static_cast<uint32_t>(i));
   }
   return region;

@@ -5,10 +5,25 @@
 #include <cstdint>
 #include <vector>
 
+#include "fill/centre_grid.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/vec3.hpp"
 
 namespace pfill {
+
+/// A place's part in a relaxation around `places`: moving within `reach`
+/// of one, held within `reach + hold` of one, else out (the engines' hold).
+class NearParts {
+ public:
+  /// (`places` must outlive this.)
+  NearParts(const std::vector<Vec3>& places, double reach, double hold);
+  ParticleEngine::StepPart operator()(const Vec3& p) const;
+
+ private:
+  const std::vector<Vec3>& places_;
+  double reach2_, outer2_;
+  CentreGrid grid_;  // a cell of reach + hold: every place within it lies in the 27 around
+};
 
 struct NearRegion {
   std::vector<uint32_t> moving;  ///< indices into the particles, within `reach` of a place

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <unordered_set>
@@ -236,6 +237,33 @@ class LammpsEngine final : public ParticleEngine {
     flush();
     step_.fire().take_in_flight(steps_);
     return step_.fire().state();
+  }
+
+  /// Each rank types its own atoms by their part (step_callback.hpp's
+  /// types); the next run's set-up gives the ghosts their types.
+  std::optional<size_t> hold(const std::function<StepPart(const Vec3&)>& part_of) override {
+    flush();
+    const int n = lmp_->nlocal();
+    double** x = lmp_->atoms<double**>("x");
+    int* type = lmp_->atoms<int*>("type");
+    static const int kTypeOf[] = {lammps_engine::kMovingType, lammps_engine::kHeldType, lammps_engine::kOutType};
+    long long taking_part = 0;
+    for (int i = 0; i < n; ++i) {
+      type[i] = kTypeOf[static_cast<int>(part_of(Vec3{x[i][0], x[i][1], x[i][2]}))];
+      taking_part += type[i] != lammps_engine::kOutType;
+    }
+    MPI_Allreduce(MPI_IN_PLACE, &taking_part, 1, MPI_LONG_LONG, MPI_SUM, lmp_->comm());
+    step_.set_holding(true);
+    dirty_ = true;
+    return static_cast<size_t>(taking_part);
+  }
+  void release_hold() override {
+    flush();
+    if (!step_.holding()) return;
+    int* type = lmp_->atoms<int*>("type");
+    for (int i = 0, n = lmp_->nlocal(); i < n; ++i) type[i] = lammps_engine::kMovingType;
+    step_.set_holding(false);
+    dirty_ = true;
   }
 
   size_t size() const override { return book_.size(); }

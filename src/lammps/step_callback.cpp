@@ -80,12 +80,18 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   // The wall's reads miss the cache: ahead of the loop, the corners in the
   // brick each atom last read (omega[j][1]) where it may read again.
   const double reach = field_ ? lipschitz_ * c.max_speed * c.dt : 0;  // (every step moves within the cap)
+  const int* type = session_.atoms<int*>("type");
+  const bool holding = holding_;
   auto ahead = [&](int j) {
-    if (j < nlocal && omega[j][0] + reach >= -radius[j])
+    if (j < nlocal && (!holding || type[j] == kMovingType) && omega[j][0] + reach >= -radius[j])
       field_->prefetch(x[j][0], x[j][1], x[j][2], static_cast<int32_t>(omega[j][1]));
   };
   for (int i = 0; i < nlocal; ++i) {
     if (field_) ahead(i + 8);
+    if (holding && type[i] != kMovingType) {
+      v[i][0] = v[i][1] = v[i][2] = 0;  // held or out: still
+      continue;
+    }
     double u[3] = {v[i][0], v[i][1], v[i][2]};
     double p[3] = {x[i][0], x[i][1], x[i][2]};
     const double p0[3] = {p[0], p[1], p[2]};
@@ -177,6 +183,9 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
   // Unequal spheres: each pair's lengths scale with (r_i + r_j) / (2 radius), as on the other engines.
   const double rs_ref = 2 * params_.radius;
   const int* tag = session_.atoms<int*>("id");
+  // Holding (set_holding): only pairs with a moving atom; out atoms' lists skipped.
+  const int* type = session_.atoms<int*>("type");
+  const bool holding = holding_;
   // LAMMPS' per-atom 2-d arrays are one block with row pointers: read by
   // offset, not through the row pointer (one dependent load less a pair).
   const double* X = x[0];
@@ -187,12 +196,14 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
     int i = 0, nn = 0;
     int* neigh = nullptr;
     lammps_neighlist_element_neighbors(lmp, list, e, &i, &nn, &neigh);
-    if (i >= nlocal) continue;
+    if (i >= nlocal || (holding && type[i] == kOutType)) continue;
+    const bool i_moves = !holding || type[i] == kMovingType;
     const double* xi = X + 3 * static_cast<size_t>(i);
     const double* vi = V + 3 * static_cast<size_t>(i);
     double* fi = &force_[3 * static_cast<size_t>(i)];
     for (int k = 0; k < nn; ++k) {
       const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
+      if (!i_moves && type[j] != kMovingType) continue;
       const double* xj = X + 3 * static_cast<size_t>(j);
       double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
       double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
@@ -211,7 +222,10 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
           const double inv_d = 1 / std::sqrt(d2);
           const double* vj = V + 3 * static_cast<size_t>(j);
           const double un = ((vi[0] - vj[0]) * d[0] + (vi[1] - vj[1]) * d[1] + (vi[2] - vj[2]) * d[2]) * inv_d;
-          fn = physics::pf_contact_damping(un, 1 / rmass[i], 1 / rmass[j], c.dashpot, q) * inv_d;
+          // A held atom is as good as infinitely heavy (finish.cpp's kHeldMass): the moving one's dashpot is a wall's.
+          const double inv_mi = i_moves ? 1 / rmass[i] : 0;
+          const double inv_mj = !holding || type[j] == kMovingType ? 1 / rmass[j] : 0;
+          fn = physics::pf_contact_damping(un, inv_mi, inv_mj, c.dashpot, q) * inv_d;
         }
       }
       fp += fn;

@@ -24,6 +24,9 @@
 namespace pfill {
 namespace lammps_engine {
 
+/// The atoms' types while the engine holds some still (StepCallback::set_holding).
+constexpr int kMovingType = 1, kHeldType = 2, kOutType = 3;
+
 /// The per-step scalars of one rank, reduced over ranks when read;
 /// `power` (FIRE) is already over every rank, the same on each.
 struct LocalRecord {
@@ -61,6 +64,12 @@ class StepCallback {
   std::unordered_set<int>& flagged_tags() { return flagged_tags_; }
   /// FIRE's state (EngineParams::fire; off without it), the same on every rank.
   FireMinimiser& fire() { return fire_; }
+  /// While holding, an atom's LAMMPS type says its part in a step
+  /// (ParticleEngine::hold_all_but_near): kMovingType atoms step as ever;
+  /// kHeldType ones stay still and push the moving; kOutType ones take no
+  /// part. Not holding, every atom moves whatever its type.
+  void set_holding(bool on) { holding_ = on; }
+  bool holding() const { return holding_; }
 
   void on_step(int64_t step, int nlocal, int* tags, double** x, double** fext);
 
@@ -83,6 +92,7 @@ class StepCallback {
   std::vector<double> force_;             // the pair forces (potential and dashpot) on this rank's atoms, this step
   std::unordered_set<int> flagged_tags_;  // this rank's atoms flagged outside since clear_flags
   FireMinimiser fire_;
+  bool holding_ = false;
 };
 
 }  // namespace lammps_engine

@@ -5,7 +5,9 @@
 /// on either (FillOptions::engine); the reference needs no OpenCL device.
 #pragma once
 #include <cstdint>
+#include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -115,6 +117,26 @@ class ParticleEngine {
   virtual std::shared_ptr<ProcessGroup> process_group() const { return std::make_shared<ProcessGroup>(); }
   virtual size_t size() const = 0;          ///< particle count
   virtual uint64_t steps_done() const = 0;  ///< steps run (or enqueued)
+
+  /// A particle's part in the steps while the engine holds some (hold).
+  enum class StepPart : uint8_t { moving, held, out };
+  /// The finish's last jams relaxed where they are (finish.cpp): until
+  /// release_hold, steps move only the particles whose part_of(position)
+  /// is moving; held ones stay still and push the moving; the rest take no
+  /// part (no step costs them much: their pairs are not looked at, so
+  /// part_of must put every one further than a pair's reach,
+  /// EngineConstants::list_reach less the skin, from every moving one).
+  /// part_of must give the same part for a place on every process (each
+  /// asks it of its own particles). Returns
+  /// how many move or are held, over every process (collective); nothing
+  /// where the engine cannot hold (by default: the finish then relaxes
+  /// such a region on an engine of its own).
+  virtual std::optional<size_t> hold(const std::function<StepPart(const Vec3&)>& part_of) {
+    (void)part_of;
+    return std::nullopt;
+  }
+  /// Every particle moves again (collective).
+  virtual void release_hold() {}
 
   /// FIRE (params().fire.on): the minimiser starts afresh at the next
   /// step (its first dt, alpha at its start, every velocity dropped).
