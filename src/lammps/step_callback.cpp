@@ -201,15 +201,28 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
     const double* xi = X + 3 * static_cast<size_t>(i);
     const double* vi = V + 3 * static_cast<size_t>(i);
     double* fi = &force_[3 * static_cast<size_t>(i)];
+    // First the neighbours within a pair's reach, without a branch: about
+    // half the list lies in the skin, and a branch on each missed often.
+    near_.resize(static_cast<size_t>(std::max(nn, 1)));
+    int m = 0;
     for (int k = 0; k < nn; ++k) {
       const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
-      if (!i_moves && type[j] != kMovingType) continue;
+      const double* xj = X + 3 * static_cast<size_t>(j);
+      const double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
+      const double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+      const double rs = radius[i] + radius[j];
+      const double q2 = c.polydisperse ? physics::pf_pair_scale2(rs, rs_ref, 1 / (rs_ref * rs_ref)) : 1.0;
+      const bool wanted = i_moves || type[j] == kMovingType;  // (holding: a pair needs a moving atom)
+      near_[static_cast<size_t>(m)] = j;
+      m += static_cast<int>(d2 < std::max(rc2 * q2, rs * rs)) & static_cast<int>(wanted);
+    }
+    for (int t = 0; t < m; ++t) {
+      const int j = near_[static_cast<size_t>(t)];
       const double* xj = X + 3 * static_cast<size_t>(j);
       double d[3] = {xi[0] - xj[0], xi[1] - xj[1], xi[2] - xj[2]};
       double d2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
       const double rs = radius[i] + radius[j];
       const double q2 = c.polydisperse ? physics::pf_pair_scale2(rs, rs_ref, 1 / (rs_ref * rs_ref)) : 1.0;
-      if (d2 >= std::max(rc2 * q2, rs * rs)) continue;
       const double q = c.polydisperse ? physics::pf_pair_scale(rs, rs_ref, 1 / rs_ref) : 1.0;
       const bool mine = j < nlocal;
       physics::pf_apart(&d[0], &d[1], &d[2], &d2, d2 < dmin * dmin, tag[j] > tag[i], dmin);

@@ -90,6 +90,7 @@ class StepCallback {
   uint64_t run_start_ = 0;
   std::vector<LocalRecord> local_history_;
   std::vector<double> force_;             // the pair forces (potential and dashpot) on this rank's atoms, this step
+  std::vector<int> near_;                 // pair_forces: an atom's neighbours within a pair's reach
   std::unordered_set<int> flagged_tags_;  // this rank's atoms flagged outside since clear_flags
   FireMinimiser fire_;
   bool holding_ = false;
