@@ -203,7 +203,7 @@ double StepCallback::pair_forces(int nlocal, double** x, double** v, const doubl
     double* fi = &force_[3 * static_cast<size_t>(i)];
     // First the neighbours within a pair's reach, without a branch: about
     // half the list lies in the skin, and a branch on each missed often.
-    near_.resize(static_cast<size_t>(std::max(nn, 1)));
+    if (near_.size() < static_cast<size_t>(nn)) near_.resize(static_cast<size_t>(nn));  // (only grows)
     int m = 0;
     for (int k = 0; k < nn; ++k) {
       const int j = neigh[k] & 0x3FFFFFFF;  // NEIGHMASK: special-bond bits off
