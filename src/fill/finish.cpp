@@ -321,7 +321,9 @@ class Finisher {
       const EngineConstants& c = engine_->constants();
       const double hold = std::max(s_.near_hold * s_.radius, c.list_reach - c.skin);
       const NearParts part_of(hot_, s_.near_reach * s_.radius, hold);
-      if (const std::optional<size_t> taking_part = engine_->hold(part_of)) return relax_held(*taking_part);
+      // (by reference: the places' grid is not copied)
+      if (const std::optional<size_t> taking_part = engine_->hold(std::cref(part_of)))
+        return relax_held(*taking_part);
       if (const std::optional<bool> stalled = relax_near()) return *stalled;
     }
     return relax_on(*engine_, engine_->size());
@@ -476,7 +478,7 @@ class Finisher {
   std::unique_ptr<ParticleEngine> engine_;
   std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> make_;
   EngineParams params_;      ///< the relaxation's engines'
-  std::vector<Vec3> hot_;    ///< where the last round's pairs over the bound lie (their midpoints; every process's: share_hot)
+  std::vector<Vec3> hot_;    ///< the midpoints of the last round's pairs over the bound, all processes' (share_hot)
   FinishView view_;          ///< what this process decides the round on
   std::function<void(size_t, uint32_t)> progress_;
 };

@@ -81,7 +81,8 @@ BoxSettings set_up_box(LammpsSession& lmp, const EngineParams& params, const Eng
       << (c.dashpot > 0 ? "comm_modify vel yes\n" : "")
       << "newton off\n"
       << "region pf_box block " << lo.x << " " << hi.x << " " << lo.y << " " << hi.y << " " << lo.z << " " << hi.z
-      // Three types: every atom is of the first but while the engine holds some (step_callback.hpp's kHeldType, kOutType).
+      // Three types: every atom is of the first, but while the engine holds
+      // some (step_callback.hpp's kHeldType, kOutType).
       << "\ncreate_box 3 pf_box\n"
       << atom_index_fix();
   // The pair forces are pfill's own (the callback, over this style's list,
