@@ -317,14 +317,14 @@ class Finisher {
   bool relax() {
     ++stats_.rounds;
     if (!hot_.empty() && engine_->size() >= s_.near_min_spheres) {
-      // (held at least a pair's reach deep: the engine's hold leaves out the rest's pairs)
+      // (held at least a pair's reach deep: an engine's hold leaves out the rest's pairs)
       const EngineConstants& c = engine_->constants();
       const double hold = std::max(s_.near_hold * s_.radius, c.list_reach - c.skin);
       const NearParts part_of(hot_, s_.near_reach * s_.radius, hold);
       // (by reference: the places' grid is not copied)
       if (const std::optional<size_t> taking_part = engine_->hold(std::cref(part_of)))
         return relax_held(*taking_part);
-      if (const std::optional<bool> stalled = relax_near()) return *stalled;
+      if (const std::optional<bool> stalled = relax_near(hold)) return *stalled;
     }
     return relax_on(*engine_, engine_->size());
   }
@@ -376,15 +376,15 @@ class Finisher {
   }
 
   /// Relaxes only the spheres within `near_reach` r of a place in `hot_`,
-  /// with those up to `near_hold` r further held still (as good as infinite
+  /// with those up to `hold` further held still (as good as infinite
   /// mass), on an engine of their own; then the main engine takes them
   /// back. One engine at a time: each holds a cell grid over the field's
   /// whole box (~550 MiB at 1e6), and two at once took the peak from 1,645
   /// to 2,166 MiB. Nothing (no relaxation) when the region holds more than
   /// `near_share` of the spheres: a relaxation of all then costs little more.
-  std::optional<bool> relax_near() {
+  std::optional<bool> relax_near(double hold) {
     std::vector<Particle> ps = engine_->read_particles();
-    const NearRegion region = region_near(ps, hot_, s_.near_reach * s_.radius, s_.near_hold * s_.radius);
+    const NearRegion region = region_near(ps, hot_, s_.near_reach * s_.radius, hold);
     if (static_cast<double>(region.moving.size() + region.held.size()) >
         s_.near_share * static_cast<double>(ps.size()))
       return std::nullopt;
