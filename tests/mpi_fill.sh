@@ -71,15 +71,21 @@ fi
 
 # Unequal spheres (--radii, 2026-12-06): hard by each pair's smaller radius,
 # inside, the count near the OpenCL engine's (495 at seed 1; LAMMPS 493 at
-# -np 1 and 2); their births are decided per rank, but their finish takes
-# the whole set on every rank, so with %r rank 0's part holds them all and
-# the join gives the rows of the single file.
+# -np 1, 487 at -np 2); their births and their finish are decided per rank (the
+# size classes' counts summed over the ranks), so with %r each rank writes
+# its own part, none every sphere, and the join gives the rows of the
+# single file.
 run "$pfill" fill --builtin sphere -n 500 --radii discrete:1:0.5,2:0.5 --seed 1 --engine lammps -q \
   -o "$tmp/mix.csv" --report "$tmp/m.json" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
 check_report "radii 1:2" "$tmp/m.json" 470 520
 if [ "$np" -gt 1 ]; then
   run "$pfill" fill --builtin sphere -n 500 --radii discrete:1:0.5,2:0.5 --seed 1 --engine lammps -q \
     -o "$tmp/mixpart.%r.csv" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+  mixed=$(($(wc -l < "$tmp/mix.csv") - 1))
+  for ((r = 0; r < np; ++r)); do
+    rows=$(($(wc -l < "$tmp/mixpart.$r.csv") - 1))
+    [ "$rows" -gt 0 ] && [ "$rows" -lt "$mixed" ] || { echo "unequal: rank $r wrote $rows of $mixed spheres"; exit 1; }
+  done
   "$pfill" join -o "$tmp/mixjoined.csv" "$tmp"/mixpart.*.csv
   cmp -s <(tail -n +2 "$tmp/mix.csv" | sort) <(tail -n +2 "$tmp/mixjoined.csv" | sort) ||
     { echo "unequal spheres: the joined parts differ from rank 0's mix.csv"; exit 1; }

@@ -20,6 +20,7 @@
 #include "pfill/lammps.hpp"
 #include "pfill/packing_metrics.hpp"
 #include "pfill/particle_share.hpp"
+#include "pfill/radius_distribution.hpp"
 #include "pfill/shapes.hpp"
 #include "skip.hpp"
 
@@ -196,5 +197,43 @@ TEST_CASE("particle share: the widest hole of the halves is the whole set's, whe
     for (size_t i = 0; i < b.size(); ++i)
       for (size_t j = i + 1; j < b.size(); ++j) close += length(b[i].centre - b[j].centre) < kR;
     CHECK(close == 0);
+  }
+}
+
+// The radii's fit to their distribution (compare_distribution with a
+// share): the class shares and moments are sums over the halves, and the
+// Kolmogorov-Smirnov distance is exact (the few quantile bins where it may
+// lie gathered), not a histogram's estimate: it must equal the whole set's
+// to rounding. Radii drawn off the law (a skewed quantile, and a run at
+// the smallest radius, where a truncated law starts from its left), so the
+// distance is not small.
+TEST_CASE("particle share: the radii's fit of the halves is the whole set's") {
+  if (!two_ranks()) PFILL_SKIP(kWhy);
+  for (const char* spec : {"lognormal:1,0.2", "uniform:0.5,1", "discrete:1:0.3,2:0.7"}) {
+    const RadiusDistribution d = RadiusDistribution::parse(spec);
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> u(0, 1), x(-1, 1);
+    ParticleSet whole;
+    for (size_t i = 0; i < 20000; ++i) {
+      whole.positions.push_back({x(rng), x(rng), x(rng)});
+      const double q = u(rng);
+      whole.radii.push_back(i % 50 == 0 ? d.min_radius() : d.quantile(std::pow(q, 1.15)));
+      whole.ids.push_back(i + 1);
+    }
+    const Split s = split(whole);
+    const DistributionFit a = compare_distribution(d, whole.radii);
+    const DistributionFit b = compare_distribution(d, s.own.radii, s.share);
+    INFO(std::string(spec) << ": whole " << a.describe() << "; halves " << b.describe());
+    CHECK(a.distance > 0.01);
+    CHECK(b.class_error == a.class_error);
+    CHECK(b.distance == doctest::Approx(a.distance).epsilon(1e-12));
+    CHECK(b.mean == doctest::Approx(a.mean).epsilon(1e-12));
+    CHECK(b.stddev == doctest::Approx(a.stddev).epsilon(1e-9));
+    CHECK(b.skewness == doctest::Approx(a.skewness).epsilon(1e-9));
+    REQUIRE(b.classes.size() == a.classes.size());
+    for (size_t k = 0; k < a.classes.size(); ++k) {
+      CHECK(b.classes[k].achieved_number == doctest::Approx(a.classes[k].achieved_number).epsilon(1e-12));
+      CHECK(b.classes[k].achieved_volume == doctest::Approx(a.classes[k].achieved_volume).epsilon(1e-12));
+    }
   }
 }

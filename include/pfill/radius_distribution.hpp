@@ -123,4 +123,14 @@ struct DistributionFit {
 /// Compares `radii` with `d` (radii in the same units as d).
 DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii);
 
+struct ParticleShare;  // particle_share.hpp
+
+/// The same for a packing held in parts (issue 31): `radii` are this
+/// process's own, the fit is of every process's together, the same on
+/// each, with no radius gathered but those of the few bins of the law's
+/// quantiles where the Kolmogorov-Smirnov distance may lie. Collective;
+/// one process (share complete): the overload above.
+DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii,
+                                     const ParticleShare& share);
+
 }  // namespace pfill

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
+#include "pfill/engine/process_group.hpp"
+#include "pfill/particle_share.hpp"
 #include "pfill/radius_distribution.hpp"
 
 namespace pfill {
@@ -14,66 +17,183 @@ std::string g3(double v) {
   std::snprintf(b, sizeof b, "%.3g", v);
   return b;
 }
-}  // namespace
 
-DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii_in) {
+/// The classes a fit reports: a continuous law's in 8 quantile bins.
+std::vector<SizeClass> fit_classes(const RadiusDistribution& d) {
   using Law = RadiusDistribution::Law;
-  const bool ks = d.law() != Law::Discrete && d.law() != Law::Equal;
-  const std::vector<SizeClass> classes = d.law() == Law::Uniform || d.law() == Law::Lognormal ||
-                                                 d.law() == Law::Normal
-                                             ? d.size_classes(8)
-                                             : d.size_classes();
-  std::vector<double> radii;  // NaN and inf say nothing of sizes
+  return d.law() == Law::Uniform || d.law() == Law::Lognormal || d.law() == Law::Normal ? d.size_classes(8)
+                                                                                          : d.size_classes();
+}
+
+/// Whether the fit is a Kolmogorov-Smirnov distance (else the largest class error).
+bool by_ks(const RadiusDistribution& d) {
+  using Law = RadiusDistribution::Law;
+  return d.law() != Law::Discrete && d.law() != Law::Equal;
+}
+
+/// The finite radii (NaN and inf say nothing of sizes), ascending.
+std::vector<double> finite_sorted(const std::vector<double>& radii_in) {
+  std::vector<double> radii;
   for (double r : radii_in)
     if (std::isfinite(r)) radii.push_back(r);
   std::sort(radii.begin(), radii.end());
-  DistributionFit fit;
-  fit.class_error = !ks;
-  fit.basis = d.law() == Law::Discrete ? d.basis() : FractionBasis::Number;
-  std::vector<double> count(classes.size(), 0), volume(classes.size(), 0);
-  double total_volume = 0;
+  return radii;
+}
+
+/// Per class: the number and the volume of `radii` in it (the nearest
+/// class, distance 0 inside [lo, hi], the lower on a tie), then the whole
+/// volume, the count and the radii's sum: 2 classes + 3 values.
+std::vector<double> class_sums(const std::vector<SizeClass>& classes, const std::vector<double>& radii) {
+  const size_t m = classes.size();
+  std::vector<double> sums(2 * m + 3, 0);
   for (double r : radii) {
-    // The nearest class (distance 0 inside [lo, hi]), the lower on a tie.
     size_t k = std::upper_bound(classes.begin(), classes.end(), r,
                                 [](double x, const SizeClass& c) { return x < c.lo; }) - classes.begin();
     size_t best = 0;
     double best_gap = HUGE_VAL;
-    for (size_t j = k >= 2 ? k - 2 : 0; j <= k && j < classes.size(); ++j) {
+    for (size_t j = k >= 2 ? k - 2 : 0; j <= k && j < m; ++j) {
       const double gap = r < classes[j].lo ? classes[j].lo - r : r > classes[j].hi ? r - classes[j].hi : 0;
       if (gap < best_gap) best_gap = gap, best = j;
     }
-    count[best] += 1;
-    volume[best] += r * r * r;
-    total_volume += r * r * r;
+    sums[best] += 1;
+    sums[m + best] += r * r * r;
+    sums[2 * m] += r * r * r;
+    sums[2 * m + 2] += r;
   }
-  const double n = static_cast<double>(radii.size());
-  for (size_t j = 0; j < classes.size(); ++j) {
+  sums[2 * m + 1] = static_cast<double>(radii.size());
+  return sums;
+}
+
+/// The fit's classes, and for a discrete law its distance, from class_sums.
+DistributionFit fit_of_classes(const RadiusDistribution& d, const std::vector<SizeClass>& classes,
+                               const std::vector<double>& sums) {
+  const size_t m = classes.size();
+  const double total_volume = sums[2 * m], n = sums[2 * m + 1];
+  DistributionFit fit;
+  fit.class_error = !by_ks(d);
+  fit.basis = d.law() == RadiusDistribution::Law::Discrete ? d.basis() : FractionBasis::Number;
+  for (size_t j = 0; j < m; ++j) {
     DistributionFit::ClassFit c;
     c.lo = classes[j].lo, c.hi = classes[j].hi;
     c.requested_number = classes[j].number_share, c.requested_volume = classes[j].volume_share;
-    c.achieved_number = n > 0 ? count[j] / n : 0;
-    c.achieved_volume = total_volume > 0 ? volume[j] / total_volume : 0;
+    c.achieved_number = n > 0 ? sums[j] / n : 0;
+    c.achieved_volume = total_volume > 0 ? sums[m + j] / total_volume : 0;
     fit.classes.push_back(c);
     const double err = fit.basis == FractionBasis::Volume ? c.achieved_volume - c.requested_volume
                                                           : c.achieved_number - c.requested_number;
-    if (!ks) fit.distance = std::max(fit.distance, std::abs(err));
+    if (fit.class_error) fit.distance = std::max(fit.distance, std::abs(err));
   }
-  if (ks) {
+  return fit;
+}
+
+/// The Kolmogorov-Smirnov terms of the sorted radius r at index i of n
+/// (a sieve's share at its smallest radius counts from its left).
+double ks_terms(const RadiusDistribution& d, double r, double i, double n) {
+  const double f = d.cdf(r), f_left = r <= d.min_radius() ? 0 : f;
+  return std::max((i + 1) / n - f, f_left - i / n);
+}
+
+/// The law's quantile bins for the distance in parts: fine enough that
+/// few bins may hold it, 128 KiB summed over the processes.
+constexpr size_t kQuantileBins = size_t{1} << 14;
+
+size_t quantile_bin(double f) {
+  return std::min(kQuantileBins - 1, static_cast<size_t>(std::max(0.0, f * static_cast<double>(kQuantileBins))));
+}
+
+/// The Kolmogorov-Smirnov distance of every process's radii together
+/// (`radii`: this process's, sorted; n: all of them). Each radius's index
+/// among all lies within its quantile bin's run, known from the bins'
+/// counts summed: that bounds every radius's terms from below (summed
+/// over the processes: a bound on the distance) and each bin's from above.
+/// Only the bins whose bound passes the distance's can hold it: their
+/// radii, from every process, give the exact terms there.
+double ks_in_parts(const RadiusDistribution& d, const std::vector<double>& radii, double n, ProcessGroup& group) {
+  std::vector<double> count(kQuantileBins, 0);
+  for (double r : radii) count[quantile_bin(d.cdf(r))] += 1;
+  group.sum(count);
+  std::vector<double> before(kQuantileBins, 0);  // radii in the bins below
+  for (size_t k = 1; k < kQuantileBins; ++k) before[k] = before[k - 1] + count[k - 1];
+  double lower = 0;
+  for (double r : radii) {
+    const size_t k = quantile_bin(d.cdf(r));
+    const double f = d.cdf(r), f_left = r <= d.min_radius() ? 0 : f;
+    lower = std::max({lower, (before[k] + 1) / n - f, f_left - (before[k] + count[k] - 1) / n});
+  }
+  lower = group.max(lower);
+  const double width = 1.0 / static_cast<double>(kQuantileBins);
+  auto open = [&](size_t k) {
+    return count[k] > 0 && std::max((before[k] + count[k]) / n - static_cast<double>(k) * width,
+                                    static_cast<double>(k + 1) * width - before[k] / n) > lower;
+  };
+  std::vector<double> mine;  // the open bins' radii: (bin, radius) pairs
+  for (double r : radii)
+    if (const size_t k = quantile_bin(d.cdf(r)); open(k)) mine.insert(mine.end(), {static_cast<double>(k), r});
+  Bytes bytes;
+  to_bytes(mine, bytes);
+  std::vector<double> all = from_bytes<double>(group.all_gather(bytes));
+  std::vector<std::pair<double, double>> open_radii;
+  for (size_t w = 0; w + 2 <= all.size(); w += 2) open_radii.emplace_back(all[w], all[w + 1]);
+  std::sort(open_radii.begin(), open_radii.end());
+  double distance = lower;
+  for (size_t j = 0, first = 0; j < open_radii.size(); ++j) {
+    if (open_radii[j].first != open_radii[first].first) first = j;
+    const double i = before[static_cast<size_t>(open_radii[j].first)] + static_cast<double>(j - first);
+    distance = std::max(distance, ks_terms(d, open_radii[j].second, i, n));
+  }
+  return distance;
+}
+
+/// The radii's mean, standard deviation and skewness into `fit`, from
+/// their count n, their sum, and the sums of their deviations' squares
+/// and cubes (about the mean).
+void set_moments(DistributionFit& fit, double n, double mean, double m2, double m3) {
+  if (n <= 0) return;
+  fit.mean = mean;
+  fit.stddev = std::sqrt(m2 / n);
+  fit.skewness = fit.stddev > 1e-12 * fit.mean ? m3 / n / std::pow(fit.stddev, 3) : 0;
+}
+
+}  // namespace
+
+DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii_in) {
+  const std::vector<double> radii = finite_sorted(radii_in);
+  const std::vector<SizeClass> classes = fit_classes(d);
+  DistributionFit fit = fit_of_classes(d, classes, class_sums(classes, radii));
+  const double n = static_cast<double>(radii.size());
+  if (by_ks(d)) {
     fit.distance = radii.empty() ? 1 : 0;
-    const double lowest = d.min_radius();
-    for (size_t i = 0; i < radii.size(); ++i) {
-      const double f = d.cdf(radii[i]), f_left = radii[i] <= lowest ? 0 : f;  // a sieve's share at its smallest radius
-      fit.distance = std::max({fit.distance, (i + 1) / n - f, f_left - i / n});
-    }
+    for (size_t i = 0; i < radii.size(); ++i)
+      fit.distance = std::max(fit.distance, ks_terms(d, radii[i], static_cast<double>(i), n));
   }
   if (n > 0) {
     double sum = 0;
     for (double r : radii) sum += r;
-    fit.mean = sum / n;
+    const double mean = sum / n;
     double m2 = 0, m3 = 0;
-    for (double r : radii) m2 += (r - fit.mean) * (r - fit.mean), m3 += std::pow(r - fit.mean, 3);
-    fit.stddev = std::sqrt(m2 / n);
-    fit.skewness = fit.stddev > 1e-12 * fit.mean ? m3 / n / std::pow(fit.stddev, 3) : 0;
+    for (double r : radii) m2 += (r - mean) * (r - mean), m3 += std::pow(r - mean, 3);
+    set_moments(fit, n, mean, m2, m3);
+  }
+  return fit;
+}
+
+DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii_in,
+                                     const ParticleShare& share) {
+  if (share.complete()) return compare_distribution(d, radii_in);
+  ProcessGroup& group = *share.group;
+  const std::vector<double> radii = finite_sorted(radii_in);
+  const std::vector<SizeClass> classes = fit_classes(d);
+  std::vector<double> sums = class_sums(classes, radii);
+  group.sum(sums);
+  DistributionFit fit = fit_of_classes(d, classes, sums);
+  const double n = sums[2 * classes.size() + 1];
+  if (by_ks(d)) fit.distance = n > 0 ? ks_in_parts(d, radii, n, group) : 1;
+  if (n > 0) {
+    const double mean = sums[2 * classes.size() + 2] / n;
+    std::vector<double> deviations{0, 0};
+    for (double r : radii) deviations[0] += (r - mean) * (r - mean), deviations[1] += std::pow(r - mean, 3);
+    group.sum(deviations);
+    set_moments(fit, n, mean, deviations[0], deviations[1]);
   }
   return fit;
 }

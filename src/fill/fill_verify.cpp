@@ -5,7 +5,6 @@
 
 #include "fill/size_deficit.hpp"
 #include "pfill/colour.hpp"
-#include "pfill/error.hpp"
 #include "pfill/packing_metrics.hpp"
 
 namespace pfill {
@@ -15,6 +14,15 @@ namespace {
 // many its field shows, so only a few near the wall are left here.
 constexpr int kMostExactHoles = 32;
 
+/// `deficit` counts every process's own spheres (`radii`: this process's).
+void count_sizes(const ParticleShare& share, const std::vector<double>& radii, SizeDeficit& deficit) {
+  deficit.recount(radii);
+  if (share.complete()) return;
+  std::vector<double> counts(deficit.counts().begin(), deficit.counts().end());
+  share.group->sum(counts);
+  deficit.set_counts(std::vector<size_t>(counts.begin(), counts.end()));
+}
+
 /// Holes the field hid (near the wall) or the repair opened take a sphere
 /// where, by exact distances, one fits inside without overlap (a hole fits
 /// a sphere at the rest distance: 2r, or more for sparse fills). Equal
@@ -23,32 +31,32 @@ constexpr int kMostExactHoles = 32;
 /// distinct hole one search found that still fits, then a new search, as a
 /// search at the smallest radius costs many times an equal fill's. Returns
 /// the widest hole left. Held in parts: every process walks the same holes
-/// (of all processes) alike, and the one whose region holds a hole takes
-/// its sphere.
+/// (of all processes) alike, on the size classes' counts summed over the
+/// processes and the spheres this round placed on any, and the one whose
+/// region holds a hole takes its sphere.
 Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<SizeDeficit>& deficit,
                       const FillOptions& o, const ParticleShare& share, ParticleSet& particles, uint64_t& next_id,
                       FillResult& result) {
-  if (deficit && !share.complete()) throw Error("unequal spheres held in parts: the exact check needs them whole");
   std::mt19937_64 rng(o.seed);
   const bool velocities = share.group->max(particles.has_velocities() ? 1.0 : 0.0) > 0;
   std::vector<Hole> holes = largest_holes(boundary, particles, radius, share);
   int filled = 0;
   while (o.hole_rounds > 0 && filled < kMostExactHoles) {
-    size_t placed = 0;  // this round's spheres, over every process (one process: those added to `particles`)
-    const size_t before = particles.size();
+    ParticleSet placed;  // this round's spheres, on every process
+    if (deficit) count_sizes(share, particles.radii, *deficit);
     for (size_t k = 0; k < (deficit ? holes.size() : 1) && filled < kMostExactHoles; ++k) {
       double gap = holes[k].gap_over_r * radius;  // (less any sphere this round put near it)
-      for (size_t m = before; m < particles.size(); ++m)
-        gap = std::min(gap, length(particles.positions[m] - holes[k].centre) - particles.radii[m]);
+      for (size_t m = 0; m < placed.size(); ++m)
+        gap = std::min(gap, length(placed.positions[m] - holes[k].centre) - placed.radii[m]);
       const double depth = -boundary.signed_distance(holes[k].centre);
       if (gap < (2 * o.rest_distance - 1) * radius || depth < radius) continue;
       double r = radius;
       if (deficit) {
-        deficit->recount(particles.radii);
-        r = deficit->take_within(std::min(gap, depth), rng);
+        r = deficit->take_within(std::min(gap, depth), rng);  // (counted in)
         if (r == 0) continue;
       }
-      ++placed;
+      placed.positions.push_back(holes[k].centre);
+      placed.radii.push_back(r);
       const uint64_t id = next_id++;
       ++result.holes_filled;
       ++filled;
@@ -58,7 +66,7 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
       particles.ids.push_back(id);
       if (velocities) particles.velocities.push_back({});
     }
-    if (placed == 0) break;
+    if (placed.size() == 0) break;
     holes = largest_holes(boundary, particles, radius, share);
   }
   return holes.front();
@@ -84,7 +92,7 @@ void verify_fill(const Boundary& boundary, const Mesh& mesh, double volume, doub
   result.metrics.largest_hole = h.gap_over_r;
   if (sizes) {
     result.radii = sizes;
-    result.radii_fit = compare_distribution(*sizes, particles.radii);
+    result.radii_fit = compare_distribution(*sizes, particles.radii, share);
   }
   const ColourOptions colour = o.colour ? *o.colour : ColourOptions{default_colour_mode(mesh), {}};
   // (the depth colours' scale: the deepest sphere of all, where each process holds its own)

@@ -24,13 +24,16 @@
 // On an engine split over processes (LAMMPS at P > 1 ranks) each reads
 // only its own spheres and a halo (finish_view.hpp) and decides the
 // deletions and holes of its own (finish_removals.hpp); the counts that
-// steer the rounds are summed over the processes. Only the result is
-// gathered.
+// steer the rounds are summed over the processes. Unequal spheres' size
+// classes are counted so too, and every process walks every process's
+// holes alike to give them radii (radii_walked_alike). Nothing is
+// gathered: each process returns its own spheres.
 #include "fill/finish.hpp"
 #include "fill/finish_removals.hpp"
 #include "fill/finish_view.hpp"
 #include "fill/near_region.hpp"
 #include "fill/size_deficit.hpp"
+#include "fill/word_bits.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -138,7 +141,7 @@ class Finisher {
         if (!stalled && static_cast<double>(over) > s_.run_on_share * n) continue;
         // Compressing ends where it deletes half of what it inserts: the
         // packing is then as full as the bound allows.
-        deleted_since_insert += remove(most_compressed(view_, overlaps, removal_rule()));
+        deleted_since_insert += remove(most_compressed_here(overlaps));
         if (2 * deleted_since_insert > last_inserted) compressing = false;
         continue;
       }
@@ -193,19 +196,23 @@ class Finisher {
   /// the engine, for the next relaxation to make room for. Returns how
   /// many, over every process.
   size_t insert_into_holes(const std::vector<Vec3>& holes, const std::vector<double>& gaps, double clearance) {
-    std::vector<Particle> newcomers;
-    if (sizes_) sizes_->recount(view_.set.radii);
-    for (size_t k = 0; k < holes.size(); ++k) {
+    std::vector<double> radii(holes.size(), s_.radius);
+    if (sizes_) {
       // Unequal spheres: as large as the hole takes at this clearance's
       // overlap (the same share of the radius as for the smallest), of
       // a class still short of its share.
-      const double r =
-          sizes_ ? hole_radius(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius))
-                 : s_.radius;
-      if (r <= 0) continue;
+      count_sizes(*engine_, view_, view_.set.radii, *sizes_);
+      std::vector<double> rooms(holes.size());
+      for (size_t k = 0; k < holes.size(); ++k)
+        rooms[k] = room_at(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius));
+      radii = radii_walked_alike(rooms);
+    }
+    std::vector<Particle> newcomers;
+    for (size_t k = 0; k < holes.size(); ++k) {
+      if (radii[k] <= 0) continue;
       Particle p;
       p.position = holes[k];
-      p.radius = r - shrink_;
+      p.radius = radii[k] - shrink_;
       p.mass = 1;
       newcomers.push_back(p);
     }
@@ -238,21 +245,12 @@ class Finisher {
         s_.hole_rounds > 0
             ? holes_in(now, s_.fit_clearance * s_.radius * (1 + 1e-6), sizes_ ? s_.radius : 0, &gaps, nullptr)
             : std::vector<Vec3>{};
-    if (sizes_) sizes_->recount(now.radii);
-    const size_t before = now.size();
+    if (sizes_) count_sizes(*engine_, view_, now.radii, *sizes_);
+    const std::vector<double> radii = fit_radii(fits, gaps);
     for (size_t k = 0; k < fits.size(); ++k) {
-      // Unequal spheres: no larger than the gap to the nearest sphere, nor
-      // than to the fits placed before it (each counted as the smallest).
-      double r = s_.radius;
-      if (sizes_) {
-        double room = gaps[k] - s_.radius;
-        for (size_t m = before; m < now.size(); ++m)
-          room = std::min(room, length(now.positions[m] - fits[k]) - now.radii[m]);
-        r = hole_radius(fits[k], room);
-        if (r <= 0) continue;
-      }
+      if (radii[k] <= 0) continue;
       now.positions.push_back(fits[k]);
-      now.radii.push_back(r);
+      now.radii.push_back(radii[k]);
       now.ids.push_back(next_id_++);
       now.velocities.push_back({});
       ++stats_.inserted;
@@ -260,19 +258,27 @@ class Finisher {
     return now;
   }
 
-  /// The same per sub-domain (equal spheres): each process's fits, apart
-  /// from those across its borders, onto the engine; then its own spheres.
+  /// The same per sub-domain: each process's fits, apart from those
+  /// across its borders, onto the engine; then its own spheres.
   ParticleSet add_fits_per_process() {
     look();
     const double clearance = s_.fit_clearance * s_.radius;
     std::vector<double> gaps;
     const std::vector<Vec3> fits =
-        s_.hole_rounds > 0 ? holes_decided_here(*engine_, view_,
-                                                holes_in(view_.set, clearance * (1 + 1e-6), 0, &gaps, view_.mine()),
-                                                gaps, clearance)
-                           : std::vector<Vec3>{};
-    std::vector<Particle> newcomers(fits.size());
-    for (size_t k = 0; k < fits.size(); ++k) newcomers[k].position = fits[k], newcomers[k].radius = engine_radius_;
+        s_.hole_rounds > 0 && !all_held(view_.set)
+            ? holes_decided_here(
+                  *engine_, view_,
+                  holes_in(view_.set, clearance * (1 + 1e-6), sizes_ ? s_.radius : 0, &gaps, view_.mine()), gaps,
+                  clearance)
+            : std::vector<Vec3>{};
+    if (sizes_) count_sizes(*engine_, view_, view_.set.radii, *sizes_);
+    const std::vector<double> radii = fit_radii(fits, gaps);
+    std::vector<Particle> newcomers;
+    for (size_t k = 0; k < fits.size(); ++k) {
+      if (radii[k] <= 0) continue;
+      newcomers.emplace_back();
+      newcomers.back().position = fits[k], newcomers.back().radius = radii[k] - shrink_;
+    }
     add_newcomers(newcomers);
     view_ = FinishView();
     // The result stays in parts: this rank's own spheres, and where each rank's lie.
@@ -286,9 +292,10 @@ class Finisher {
   /// Unequal spheres held to caps (FinishSettings::size_caps), every class
   /// at its cap: no hole may take a sphere, and a search of a loose
   /// packing's many holes would take long for nothing.
+  /// (`now`: the view's spheres, own first; collective.)
   bool all_held(const ParticleSet& now) {
     if (!sizes_ || !sizes_->capped()) return false;
-    sizes_->recount(now.radii);
+    count_sizes(*engine_, view_, now.radii, *sizes_);
     return sizes_->all_capped();
   }
 
@@ -300,16 +307,59 @@ class Finisher {
   /// What this process decides the next round on (finish_view.hpp).
   void look() {
     view_ = FinishView();  // (memory: the last round's view goes before this one's is read)
-    view_ = finish_view(*engine_, kViewReach * s_.radius, s_.radius, shrink_, sizes_.has_value());
+    const double largest = s_.sizes ? std::max(s_.radius, s_.sizes->max_radius()) : s_.radius;
+    view_ = finish_view(*engine_, kViewReach * largest, s_.radius, shrink_, sizes_.has_value());
     stats_.largest_view = std::max(stats_.largest_view, view_.set.size());
   }
 
-  /// Unequal spheres: the radius a hole at `p` gets, at most `room` (and
-  /// deep enough inside by the field): of the class furthest below its
-  /// share that fits; 0 when none does.
-  double hole_radius(const Vec3& p, double room) {
+  /// Unequal spheres: the largest radius a hole at `p` may take, at most
+  /// `room`, and deep enough inside by the wall.
+  double room_at(const Vec3& p, double room) const {
     const double depth = -(s_.wall ? s_.wall->at(p) : sample(field_, p));
-    return sizes_->take_within(std::min(room, depth / (1 + s_.wall_margin)), rng_);
+    return std::min(room, depth / (1 + s_.wall_margin));
+  }
+
+  /// Unequal spheres: the radius each of this process's holes gets, at
+  /// most its room (0: no class fits), of the class furthest below its
+  /// share (SizeDeficit, counts over every process). Each radius changes
+  /// the next hole's choice, so every process walks every process's holes
+  /// (their rooms, in process order) alike, on the same counts and the
+  /// same generator, and keeps its own holes' radii.
+  std::vector<double> radii_walked_alike(const std::vector<double>& rooms) {
+    std::vector<uint64_t> words;
+    for (double room : rooms) words.insert(words.end(), {static_cast<uint64_t>(view_.region), bits_of(room)});
+    if (!view_.complete()) engine_->gather_over_processes(words);
+    std::vector<double> mine;
+    for (size_t w = 0; w + 2 <= words.size(); w += 2) {
+      const double r = sizes_->take_within(double_of(words[w + 1]), rng_);
+      if (static_cast<int>(words[w]) == view_.region) mine.push_back(r);
+    }
+    return mine;
+  }
+
+  /// The radius each of this process's `fits` (the nearest centre `gaps`
+  /// away) gets as it is: equal spheres `radius`; unequal, no larger than
+  /// the gap to the nearest sphere, nor than to the fits placed before it
+  /// (each counted as the smallest), walked alike on every process as
+  /// radii_walked_alike does, with the fits' places. 0: none fits.
+  std::vector<double> fit_radii(const std::vector<Vec3>& fits, const std::vector<double>& gaps) {
+    if (!sizes_) return std::vector<double>(fits.size(), s_.radius);
+    std::vector<uint64_t> words;  // a fit: its process, place, room and depth's cap
+    for (size_t k = 0; k < fits.size(); ++k)
+      words.insert(words.end(), {static_cast<uint64_t>(view_.region), bits_of(fits[k].x), bits_of(fits[k].y),
+                                 bits_of(fits[k].z), bits_of(gaps[k] - s_.radius), bits_of(room_at(fits[k], HUGE_VAL))});
+    if (!view_.complete()) engine_->gather_over_processes(words);
+    std::vector<Vec3> placed;
+    std::vector<double> placed_radii, mine;
+    for (size_t w = 0; w + 6 <= words.size(); w += 6) {
+      const Vec3 p(double_of(words[w + 1]), double_of(words[w + 2]), double_of(words[w + 3]));
+      double room = double_of(words[w + 4]);
+      for (size_t m = 0; m < placed.size(); ++m) room = std::min(room, length(placed[m] - p) - placed_radii[m]);
+      const double r = sizes_->take_within(std::min(room, double_of(words[w + 5])), rng_);
+      if (r > 0) placed.push_back(p), placed_radii.push_back(r);
+      if (static_cast<int>(words[w]) == view_.region) mine.push_back(r);
+    }
+    return mine;
   }
 
   /// A relaxation: of the spheres near the last round's pairs over the
@@ -444,6 +494,17 @@ class Finisher {
     }
     if (progress_) progress_(shown - out.size(), pairs);
     return stalled;
+  }
+
+  /// This process's deletions after a stalled relaxation (view indices):
+  /// most_compressed; unequal spheres split over processes, only those the
+  /// classes' shares allow with every process's picks.
+  std::vector<size_t> most_compressed_here(const std::vector<Overlap>& overlaps) {
+    if (sizes_) count_sizes(*engine_, view_, view_.set.radii, *sizes_);
+    const std::vector<size_t> picked = most_compressed(view_, overlaps, removal_rule());
+    if (!sizes_ || view_.complete()) return picked;
+    count_sizes(*engine_, view_, view_.set.radii, *sizes_);  // (before this round's deletions)
+    return picks_the_classes_allow(*engine_, view_, overlaps, picked, *sizes_);
   }
 
   /// The deletions after a stalled relaxation (finish_removals.hpp).

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdint>
 
+#include "fill/word_bits.hpp"
+
 namespace pfill {
 namespace {
 
@@ -77,8 +79,8 @@ std::vector<size_t> most_compressed(const FinishView& view, const std::vector<Ov
   std::vector<size_t> out;
   // Unequal spheres: a class goes only while it keeps its share (the
   // large are the most pressed: deleting by pressure alone thinned them,
-  // 1:2 half-half ended 60:40).
-  if (sizes) sizes->recount(now.radii);
+  // 1:2 half-half ended 60:40). (The counts are every process's, from the
+  // caller; each process lowers them by its own deletions only.)
   auto may_go = [&](size_t i) { return !sizes || sizes->may_lose(sizes->class_of(now.radii[i])); };
   auto take = [&](size_t i) {
     if (sizes) sizes->remove(now.radii[i]);
@@ -107,6 +109,36 @@ std::vector<size_t> most_compressed(const FinishView& view, const std::vector<Ov
     if (out.size() >= want) break;
     if (!blocked[i] && !chosen[i] && may_go(i)) take(i);
   }
+  return out;
+}
+
+std::vector<size_t> picks_the_classes_allow(ParticleEngine& engine, const FinishView& view,
+                                            const std::vector<Overlap>& overlaps, const std::vector<size_t>& picked,
+                                            SizeDeficit& sizes) {
+  const std::vector<double> pressed = pressures(view.set.size(), overlaps);
+  std::vector<uint64_t> words;  // a pick: its pressure, key, class, process and place in `picked`
+  for (size_t j = 0; j < picked.size(); ++j) {
+    const size_t i = picked[j];
+    words.insert(words.end(), {bits_of(pressed[i]), view.keys[i], sizes.class_of(view.set.radii[i]),
+                               static_cast<uint64_t>(view.region), j});
+  }
+  engine.gather_over_processes(words);
+  std::vector<size_t> order(words.size() / 5);
+  for (size_t k = 0; k < order.size(); ++k) order[k] = 5 * k;
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const double pa = double_of(words[a]), pb = double_of(words[b]);
+    return pa > pb || (pa == pb && words[a + 1] < words[b + 1]);
+  });
+  std::vector<bool> kept(picked.size(), false);
+  for (size_t w : order) {
+    const size_t k = static_cast<size_t>(words[w + 2]);
+    if (!sizes.may_lose(k)) continue;
+    sizes.remove_from(k);
+    if (static_cast<int>(words[w + 3]) == view.region) kept[static_cast<size_t>(words[w + 4])] = true;
+  }
+  std::vector<size_t> out;
+  for (size_t j = 0; j < picked.size(); ++j)
+    if (kept[j]) out.push_back(picked[j]);
   return out;
 }
 

@@ -20,8 +20,10 @@ struct RemovalRule {
   double jam_share = 0.1;      ///< the most pressed of this share of the jams lose a sphere each
   double share = 0.5;          ///< of the estimated excess, this share goes
   double radius = 0;           ///< the smallest radius (unequal spheres' excess)
-  /// Unequal spheres (complete views only): the classes' counts, which a
-  /// deletion keeps to; null: equal spheres.
+  /// Unequal spheres: the classes' counts over every process (the caller
+  /// counts them: count_sizes), which a deletion keeps to; null: equal
+  /// spheres. (Split over processes, each sees only its own deletions:
+  /// picks_the_classes_allow then holds every process's picks together.)
   SizeDeficit* sizes = nullptr;
   double mean_cube = 0;        ///< unequal: the distribution's mean r^3
 };
@@ -31,6 +33,18 @@ struct RemovalRule {
 /// `jam_share` of the jams, never two that touch. View indices, own only.
 std::vector<size_t> most_compressed(const FinishView& view, const std::vector<Overlap>& overlaps,
                                     const RemovalRule& rule);
+
+/// Unequal spheres split over processes: of every process's `picked`
+/// (most_compressed's, each process's within the classes' shares on its
+/// own), those the classes' shares allow together. Every process walks
+/// all the picks alike, most pressed first (ties by key), a class losing
+/// a sphere only while `sizes` (every process's counts, before this
+/// round's deletions) may lose one; without it P processes could each
+/// take a class's whole allowance. Returns this process's kept, in
+/// `picked`'s order. Collective.
+std::vector<size_t> picks_the_classes_allow(ParticleEngine& engine, const FinishView& view,
+                                            const std::vector<Overlap>& overlaps, const std::vector<size_t>& picked,
+                                            SizeDeficit& sizes);
 
 /// Out of rounds: the more pressed sphere of every pair over the bound.
 /// One process: in the pairs' order, skipping a pair one of whose spheres

@@ -4,6 +4,7 @@
 #include "fill/word_bits.hpp"
 
 #include <algorithm>
+#include <cstddef>
 #include <utility>
 
 namespace pfill {
@@ -19,10 +20,8 @@ ParticleSet at_true_radii(const std::vector<Particle>& ps, double radius, double
 }
 
 FinishView finish_view(ParticleEngine& engine, double reach, double radius, double shrink, bool unequal) {
-  // Unequal spheres see every sphere: a hole's radius follows the size
-  // classes' counts over the whole set (SizeDeficit).
   FinishView v;
-  static_cast<LocalView&>(v) = unequal ? whole_view(engine.read_particles()) : engine.local_view(reach);
+  static_cast<LocalView&>(v) = engine.local_view(reach);
   v.set = at_true_radii(v.particles, radius, shrink, unequal);
   v.particles = std::vector<Particle>();  // (memory: held once, in `set`)
   return v;
@@ -35,6 +34,15 @@ size_t total_over_processes(ParticleEngine& engine, const FinishView& view, size
   size_t total = 0;
   for (uint64_t c : counts) total += static_cast<size_t>(c);
   return total;
+}
+
+void count_sizes(ParticleEngine& engine, const FinishView& view, const std::vector<double>& radii,
+                 SizeDeficit& sizes) {
+  if (view.complete()) return sizes.recount(radii);
+  sizes.recount(std::vector<double>(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(view.own)));
+  std::vector<int> counts(sizes.counts().begin(), sizes.counts().end());
+  engine.sum_over_processes(counts);
+  sizes.set_counts(std::vector<size_t>(counts.begin(), counts.end()));
 }
 
 std::vector<size_t> picked_everywhere(ParticleEngine& engine, const FinishView& view,

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "fill/size_deficit.hpp"
 #include "pfill/engine/local_view.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/packing_metrics.hpp"
@@ -42,7 +43,14 @@ ParticleSet at_true_radii(const std::vector<Particle>& ps, double radius, double
 
 /// The engine's view within `reach` as a FinishView: the engine's spheres
 /// are smaller than the true by `shrink` (equal spheres: all of `radius`).
+/// Unequal spheres: `reach` must cover two contact distances of the largest.
 FinishView finish_view(ParticleEngine& engine, double reach, double radius, double shrink, bool unequal);
+
+/// Unequal spheres: `sizes` counts the view's own spheres (`radii`, the
+/// view's, own first), summed over the processes (one process: all of
+/// them). Collective.
+void count_sizes(ParticleEngine& engine, const FinishView& view, const std::vector<double>& radii,
+                 SizeDeficit& sizes);
 
 /// `n` summed over the processes (one process: n).
 size_t total_over_processes(ParticleEngine& engine, const FinishView& view, size_t n);

@@ -92,8 +92,8 @@ void SizeDeficit::set_counts(const std::vector<size_t>& counts) {
   for (size_t c : counts) total_ += c;
 }
 
-void SizeDeficit::remove(double radius) {
-  size_t& c = count_[class_of(radius)];
+void SizeDeficit::remove_from(size_t k) {
+  size_t& c = count_[k];
   if (c > 0) --c, --total_;
 }
 

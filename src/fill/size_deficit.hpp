@@ -54,7 +54,8 @@ class SizeDeficit {
   const std::vector<size_t>& counts() const { return count_; }
   void set_counts(const std::vector<size_t>& counts);
   void add(double radius) { ++count_[class_of(radius)], ++total_; }
-  void remove(double radius);
+  void remove(double radius) { remove_from(class_of(radius)); }
+  void remove_from(size_t k);  ///< one sphere less in class k
 
   /// The classes a new sphere may take, furthest below their share first
   /// (ties: the larger): those whose count stays within the allowed surplus
