@@ -26,14 +26,14 @@
 // deletions and holes of its own (finish_removals.hpp); the counts that
 // steer the rounds are summed over the processes. Unequal spheres' size
 // classes are counted so too, and every process walks every process's
-// holes alike to give them radii (radii_walked_alike). Nothing is
+// holes alike to give them radii (hole_radii.hpp). Nothing is
 // gathered: each process returns its own spheres.
 #include "fill/finish.hpp"
 #include "fill/finish_removals.hpp"
 #include "fill/finish_view.hpp"
+#include "fill/hole_radii.hpp"
 #include "fill/near_region.hpp"
 #include "fill/size_deficit.hpp"
-#include "fill/word_bits.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -205,7 +205,7 @@ class Finisher {
       std::vector<double> rooms(holes.size());
       for (size_t k = 0; k < holes.size(); ++k)
         rooms[k] = room_at(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius));
-      radii = radii_walked_alike(rooms);
+      radii = radii_walked_alike(*engine_, view_, rooms, *sizes_, rng_);
     }
     std::vector<Particle> newcomers;
     for (size_t k = 0; k < holes.size(); ++k) {
@@ -319,47 +319,16 @@ class Finisher {
     return std::min(room, depth / (1 + s_.wall_margin));
   }
 
-  /// Unequal spheres: the radius each of this process's holes gets, at
-  /// most its room (0: no class fits), of the class furthest below its
-  /// share (SizeDeficit, counts over every process). Each radius changes
-  /// the next hole's choice, so every process walks every process's holes
-  /// (their rooms, in process order) alike, on the same counts and the
-  /// same generator, and keeps its own holes' radii.
-  std::vector<double> radii_walked_alike(const std::vector<double>& rooms) {
-    std::vector<uint64_t> words;
-    for (double room : rooms) words.insert(words.end(), {static_cast<uint64_t>(view_.region), bits_of(room)});
-    if (!view_.complete()) engine_->gather_over_processes(words);
-    std::vector<double> mine;
-    for (size_t w = 0; w + 2 <= words.size(); w += 2) {
-      const double r = sizes_->take_within(double_of(words[w + 1]), rng_);
-      if (static_cast<int>(words[w]) == view_.region) mine.push_back(r);
-    }
-    return mine;
-  }
-
   /// The radius each of this process's `fits` (the nearest centre `gaps`
   /// away) gets as it is: equal spheres `radius`; unequal, no larger than
   /// the gap to the nearest sphere, nor than to the fits placed before it
-  /// (each counted as the smallest), walked alike on every process as
-  /// radii_walked_alike does, with the fits' places. 0: none fits.
+  /// (each counted as the smallest), nor than its depth allows
+  /// (hole_radii.hpp). 0: none fits.
   std::vector<double> fit_radii(const std::vector<Vec3>& fits, const std::vector<double>& gaps) {
     if (!sizes_) return std::vector<double>(fits.size(), s_.radius);
-    std::vector<uint64_t> words;  // a fit: its process, place, room and depth's cap
-    for (size_t k = 0; k < fits.size(); ++k)
-      words.insert(words.end(), {static_cast<uint64_t>(view_.region), bits_of(fits[k].x), bits_of(fits[k].y),
-                                 bits_of(fits[k].z), bits_of(gaps[k] - s_.radius), bits_of(room_at(fits[k], HUGE_VAL))});
-    if (!view_.complete()) engine_->gather_over_processes(words);
-    std::vector<Vec3> placed;
-    std::vector<double> placed_radii, mine;
-    for (size_t w = 0; w + 6 <= words.size(); w += 6) {
-      const Vec3 p(double_of(words[w + 1]), double_of(words[w + 2]), double_of(words[w + 3]));
-      double room = double_of(words[w + 4]);
-      for (size_t m = 0; m < placed.size(); ++m) room = std::min(room, length(placed[m] - p) - placed_radii[m]);
-      const double r = sizes_->take_within(std::min(room, double_of(words[w + 5])), rng_);
-      if (r > 0) placed.push_back(p), placed_radii.push_back(r);
-      if (static_cast<int>(words[w]) == view_.region) mine.push_back(r);
-    }
-    return mine;
+    std::vector<double> rooms(fits.size()), caps(fits.size());
+    for (size_t k = 0; k < fits.size(); ++k) rooms[k] = gaps[k] - s_.radius, caps[k] = room_at(fits[k], HUGE_VAL);
+    return fit_radii_walked_alike(*engine_, view_, fits, rooms, caps, *sizes_, rng_);
   }
 
   /// A relaxation: of the spheres near the last round's pairs over the
