@@ -109,15 +109,15 @@ size_t quantile_bin(double f) {
 /// Only the bins whose bound passes the distance's can hold it: their
 /// radii, from every process, give the exact terms there.
 double ks_in_parts(const RadiusDistribution& d, const std::vector<double>& radii, double n, ProcessGroup& group) {
-  std::vector<double> count(kQuantileBins, 0);
-  for (double r : radii) count[quantile_bin(d.cdf(r))] += 1;
+  std::vector<double> cdf(radii.size()), count(kQuantileBins, 0);
+  for (size_t i = 0; i < radii.size(); ++i) count[quantile_bin(cdf[i] = d.cdf(radii[i]))] += 1;
   group.sum(count);
   std::vector<double> before(kQuantileBins, 0);  // radii in the bins below
   for (size_t k = 1; k < kQuantileBins; ++k) before[k] = before[k - 1] + count[k - 1];
   double lower = 0;
-  for (double r : radii) {
-    const size_t k = quantile_bin(d.cdf(r));
-    const double f = d.cdf(r), f_left = r <= d.min_radius() ? 0 : f;
+  for (size_t i = 0; i < radii.size(); ++i) {
+    const size_t k = quantile_bin(cdf[i]);
+    const double f = cdf[i], f_left = radii[i] <= d.min_radius() ? 0 : f;
     lower = std::max({lower, (before[k] + 1) / n - f, f_left - (before[k] + count[k] - 1) / n});
   }
   lower = group.max(lower);
@@ -127,8 +127,8 @@ double ks_in_parts(const RadiusDistribution& d, const std::vector<double>& radii
                                     static_cast<double>(k + 1) * width - before[k] / n) > lower;
   };
   std::vector<double> mine;  // the open bins' radii: (bin, radius) pairs
-  for (double r : radii)
-    if (const size_t k = quantile_bin(d.cdf(r)); open(k)) mine.insert(mine.end(), {static_cast<double>(k), r});
+  for (size_t i = 0; i < radii.size(); ++i)
+    if (const size_t k = quantile_bin(cdf[i]); open(k)) mine.insert(mine.end(), {static_cast<double>(k), radii[i]});
   Bytes bytes;
   to_bytes(mine, bytes);
   std::vector<double> all = from_bytes<double>(group.all_gather(bytes));

@@ -14,15 +14,6 @@ namespace {
 // many its field shows, so only a few near the wall are left here.
 constexpr int kMostExactHoles = 32;
 
-/// `deficit` counts every process's own spheres (`radii`: this process's).
-void count_sizes(const ParticleShare& share, const std::vector<double>& radii, SizeDeficit& deficit) {
-  deficit.recount(radii);
-  if (share.complete()) return;
-  std::vector<double> counts(deficit.counts().begin(), deficit.counts().end());
-  share.group->sum(counts);
-  deficit.set_counts(std::vector<size_t>(counts.begin(), counts.end()));
-}
-
 /// Holes the field hid (near the wall) or the repair opened take a sphere
 /// where, by exact distances, one fits inside without overlap (a hole fits
 /// a sphere at the rest distance: 2r, or more for sparse fills). Equal
@@ -43,7 +34,7 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
   int filled = 0;
   while (o.hole_rounds > 0 && filled < kMostExactHoles) {
     ParticleSet placed;  // this round's spheres, on every process
-    if (deficit) count_sizes(share, particles.radii, *deficit);
+    if (deficit) deficit->recount(particles.radii, particles.size(), *share.group);
     for (size_t k = 0; k < (deficit ? holes.size() : 1) && filled < kMostExactHoles; ++k) {
       double gap = holes[k].gap_over_r * radius;  // (less any sphere this round put near it)
       for (size_t m = 0; m < placed.size(); ++m)

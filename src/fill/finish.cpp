@@ -102,6 +102,7 @@ class Finisher {
     params_ = p;
     engine_ = make(p);
     give_wall(*engine_);
+    group_ = engine_->process_group();
   }
 
   /// `share` empty (no total): `ps` is the whole set; else this process's
@@ -201,7 +202,7 @@ class Finisher {
       // Unequal spheres: as large as the hole takes at this clearance's
       // overlap (the same share of the radius as for the smallest), of
       // a class still short of its share.
-      count_sizes(*engine_, view_, view_.set.radii, *sizes_);
+      count_sizes(view_.set);
       std::vector<double> rooms(holes.size());
       for (size_t k = 0; k < holes.size(); ++k)
         rooms[k] = room_at(holes[k], s_.radius * (gaps[k] - s_.radius) / (clearance * s_.radius - s_.radius));
@@ -245,7 +246,7 @@ class Finisher {
         s_.hole_rounds > 0
             ? holes_in(now, s_.fit_clearance * s_.radius * (1 + 1e-6), sizes_ ? s_.radius : 0, &gaps, nullptr)
             : std::vector<Vec3>{};
-    if (sizes_) count_sizes(*engine_, view_, now.radii, *sizes_);
+    if (sizes_) count_sizes(now);
     const std::vector<double> radii = fit_radii(fits, gaps);
     for (size_t k = 0; k < fits.size(); ++k) {
       if (radii[k] <= 0) continue;
@@ -271,7 +272,7 @@ class Finisher {
                   holes_in(view_.set, clearance * (1 + 1e-6), sizes_ ? s_.radius : 0, &gaps, view_.mine()), gaps,
                   clearance)
             : std::vector<Vec3>{};
-    if (sizes_) count_sizes(*engine_, view_, view_.set.radii, *sizes_);
+    if (sizes_) count_sizes(view_.set);
     const std::vector<double> radii = fit_radii(fits, gaps);
     std::vector<Particle> newcomers;
     for (size_t k = 0; k < fits.size(); ++k) {
@@ -289,13 +290,19 @@ class Finisher {
     return at_true_radii(mine.particles, s_.radius, shrink_, sizes_.has_value());
   }
 
+  /// Unequal spheres: the classes' counts of every process's own spheres
+  /// (`set`: the view's, own first; with the view complete, all of it).
+  void count_sizes(const ParticleSet& set) {
+    sizes_->recount(set.radii, view_.complete() ? set.size() : view_.own, *group_);
+  }
+
   /// Unequal spheres held to caps (FinishSettings::size_caps), every class
   /// at its cap: no hole may take a sphere, and a search of a loose
   /// packing's many holes would take long for nothing.
   /// (`now`: the view's spheres, own first; collective.)
   bool all_held(const ParticleSet& now) {
     if (!sizes_ || !sizes_->capped()) return false;
-    count_sizes(*engine_, view_, now.radii, *sizes_);
+    count_sizes(now);
     return sizes_->all_capped();
   }
 
@@ -326,9 +333,9 @@ class Finisher {
   /// (hole_radii.hpp). 0: none fits.
   std::vector<double> fit_radii(const std::vector<Vec3>& fits, const std::vector<double>& gaps) {
     if (!sizes_) return std::vector<double>(fits.size(), s_.radius);
-    std::vector<double> rooms(fits.size()), caps(fits.size());
-    for (size_t k = 0; k < fits.size(); ++k) rooms[k] = gaps[k] - s_.radius, caps[k] = room_at(fits[k], HUGE_VAL);
-    return fit_radii_walked_alike(*engine_, view_, fits, rooms, caps, *sizes_, rng_);
+    std::vector<double> rooms(fits.size());
+    for (size_t k = 0; k < fits.size(); ++k) rooms[k] = room_at(fits[k], gaps[k] - s_.radius);
+    return fit_radii_walked_alike(*engine_, view_, fits, rooms, *sizes_, rng_);
   }
 
   /// A relaxation: of the spheres near the last round's pairs over the
@@ -469,10 +476,11 @@ class Finisher {
   /// most_compressed; unequal spheres split over processes, only those the
   /// classes' shares allow with every process's picks.
   std::vector<size_t> most_compressed_here(const std::vector<Overlap>& overlaps) {
-    if (sizes_) count_sizes(*engine_, view_, view_.set.radii, *sizes_);
+    if (sizes_) count_sizes(view_.set);
+    const std::optional<SizeDeficit> counted = sizes_;  // (most_compressed lowers the counts by its picks)
     const std::vector<size_t> picked = most_compressed(view_, overlaps, removal_rule());
     if (!sizes_ || view_.complete()) return picked;
-    count_sizes(*engine_, view_, view_.set.radii, *sizes_);  // (before this round's deletions)
+    sizes_ = counted;
     return picks_the_classes_allow(*engine_, view_, overlaps, picked, *sizes_);
   }
 
@@ -506,6 +514,7 @@ class Finisher {
   double deep_ = 0;  ///< how deep (by the field) a centre must lie
   uint64_t next_id_ = s_.first_id;  ///< the next inserted sphere's id
   std::unique_ptr<ParticleEngine> engine_;
+  std::shared_ptr<ProcessGroup> group_;  ///< the processes the engines share (size classes' counts)
   std::function<std::unique_ptr<ParticleEngine>(const EngineParams&)> make_;
   EngineParams params_;      ///< the relaxation's engines'
   std::vector<Vec3> hot_;    ///< the midpoints of the last round's pairs over the bound, all processes' (share_hot)

@@ -21,7 +21,7 @@ struct RemovalRule {
   double share = 0.5;          ///< of the estimated excess, this share goes
   double radius = 0;           ///< the smallest radius (unequal spheres' excess)
   /// Unequal spheres: the classes' counts over every process (the caller
-  /// counts them: count_sizes), which a deletion keeps to; null: equal
+  /// counts them: SizeDeficit::recount), which a deletion keeps to; null: equal
   /// spheres. (Split over processes, each sees only its own deletions:
   /// picks_the_classes_allow then holds every process's picks together.)
   SizeDeficit* sizes = nullptr;

@@ -4,7 +4,6 @@
 #include "fill/word_bits.hpp"
 
 #include <algorithm>
-#include <cstddef>
 #include <utility>
 
 namespace pfill {
@@ -34,15 +33,6 @@ size_t total_over_processes(ParticleEngine& engine, const FinishView& view, size
   size_t total = 0;
   for (uint64_t c : counts) total += static_cast<size_t>(c);
   return total;
-}
-
-void count_sizes(ParticleEngine& engine, const FinishView& view, const std::vector<double>& radii,
-                 SizeDeficit& sizes) {
-  if (view.complete()) return sizes.recount(radii);
-  sizes.recount(std::vector<double>(radii.begin(), radii.begin() + static_cast<std::ptrdiff_t>(view.own)));
-  std::vector<int> counts(sizes.counts().begin(), sizes.counts().end());
-  engine.sum_over_processes(counts);
-  sizes.set_counts(std::vector<size_t>(counts.begin(), counts.end()));
 }
 
 std::vector<size_t> picked_everywhere(ParticleEngine& engine, const FinishView& view,

@@ -13,7 +13,6 @@
 #include <cstdint>
 #include <vector>
 
-#include "fill/size_deficit.hpp"
 #include "pfill/engine/local_view.hpp"
 #include "pfill/engine/particle_engine.hpp"
 #include "pfill/packing_metrics.hpp"
@@ -45,12 +44,6 @@ ParticleSet at_true_radii(const std::vector<Particle>& ps, double radius, double
 /// are smaller than the true by `shrink` (equal spheres: all of `radius`).
 /// Unequal spheres: `reach` must cover two contact distances of the largest.
 FinishView finish_view(ParticleEngine& engine, double reach, double radius, double shrink, bool unequal);
-
-/// Unequal spheres: `sizes` counts the view's own spheres (`radii`, the
-/// view's, own first), summed over the processes (one process: all of
-/// them). Collective.
-void count_sizes(ParticleEngine& engine, const FinishView& view, const std::vector<double>& radii,
-                 SizeDeficit& sizes);
 
 /// `n` summed over the processes (one process: n).
 size_t total_over_processes(ParticleEngine& engine, const FinishView& view, size_t n);

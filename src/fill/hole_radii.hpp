@@ -21,12 +21,10 @@ std::vector<double> radii_walked_alike(ParticleEngine& engine, const FinishView&
                                        SizeDeficit& sizes, std::mt19937_64& rng);
 
 /// The same for holes that take a sphere as they are (the finish's last
-/// fits, at `fits`): a fit's room (`rooms`, its gap to the nearest sphere)
-/// also shrinks to its gap to the fits placed before it, of every
-/// process, and its radius is at most `caps` (its depth inside). Collective.
+/// fits, at `fits`): a fit's room (`rooms`) also shrinks to its gap to
+/// the fits placed before it, of every process. Collective.
 std::vector<double> fit_radii_walked_alike(ParticleEngine& engine, const FinishView& view,
                                            const std::vector<Vec3>& fits, const std::vector<double>& rooms,
-                                           const std::vector<double>& caps, SizeDeficit& sizes,
-                                           std::mt19937_64& rng);
+                                           SizeDeficit& sizes, std::mt19937_64& rng);
 
 }  // namespace pfill

@@ -79,10 +79,18 @@ bool SizeDeficit::all_capped() const {
   return true;
 }
 
-void SizeDeficit::recount(const std::vector<double>& radii) {
+void SizeDeficit::count_first(const std::vector<double>& radii, size_t n) {
   std::fill(count_.begin(), count_.end(), 0);
-  for (double r : radii) ++count_[class_of(r)];
-  total_ = radii.size();
+  for (size_t i = 0; i < n; ++i) ++count_[class_of(radii[i])];
+  total_ = n;
+}
+
+void SizeDeficit::recount(const std::vector<double>& radii, size_t own, ProcessGroup& group) {
+  count_first(radii, own);
+  if (group.alone()) return;
+  std::vector<double> counts(count_.begin(), count_.end());
+  group.sum(counts);
+  set_counts(std::vector<size_t>(counts.begin(), counts.end()));
 }
 
 void SizeDeficit::set_counts(const std::vector<size_t>& counts) {

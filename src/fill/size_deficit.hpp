@@ -10,6 +10,7 @@
 #include <random>
 #include <vector>
 
+#include "pfill/engine/process_group.hpp"
 #include "pfill/radius_distribution.hpp"
 
 namespace pfill {
@@ -48,7 +49,11 @@ class SizeDeficit {
   bool all_capped() const;
 
   /// Counts the spheres present (their radii) afresh.
-  void recount(const std::vector<double>& radii);
+  void recount(const std::vector<double>& radii) { count_first(radii, radii.size()); }
+  /// The same where the spheres are split over `group`'s processes: this
+  /// process's are the first `own` of `radii` (a halo may follow), and the
+  /// counts are every process's summed. Collective.
+  void recount(const std::vector<double>& radii, size_t own, ProcessGroup& group);
   /// Each class's count, and setting them all (the sums of every process's
   /// own counts, when the spheres are split over processes).
   const std::vector<size_t>& counts() const { return count_; }
@@ -88,6 +93,7 @@ class SizeDeficit {
   /// `change` (+1 or -1) spheres in bin k.
   double binned_ks_with(size_t k, int change) const;
   double take_tolerated(double room, std::mt19937_64& rng);
+  void count_first(const std::vector<double>& radii, size_t n);  ///< the counts of radii[0, n) alone
   /// A law whose bins may drift within the KS tolerance (discrete classes
   /// are held to their shares by number or volume: those are the contract).
   bool continuous() const {

@@ -82,10 +82,7 @@ double FillPasses::class_radius(uint64_t site, size_t c) const {
 /// the whole view).
 void FillPasses::count_sizes() {
   if (view_.complete()) return sizes_->recount(snapshot_radii_);
-  sizes_->recount(std::vector<double>(snapshot_radii_.begin(), snapshot_radii_.begin() + static_cast<long>(view_.own)));
-  std::vector<int> counts(sizes_->counts().begin(), sizes_->counts().end());
-  engine_.sum_over_processes(counts);
-  sizes_->set_counts(std::vector<size_t>(counts.begin(), counts.end()));
+  sizes_->recount(snapshot_radii_, view_.own, *engine_.process_group());
 }
 
 }  // namespace pfill
