@@ -60,7 +60,11 @@ function(pfill_layer layer)
   target_compile_features(${target} PUBLIC cxx_std_17)
   target_compile_definitions(${target} PUBLIC CL_TARGET_OPENCL_VERSION=120 CL_HPP_TARGET_OPENCL_VERSION=120
                                               CL_HPP_MINIMUM_OPENCL_VERSION=120)
-  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic)
+  # -ffp-contract=off: host formulas (physics_double.hpp) in the order
+  # written, never a*b+c fused where the ISA has FMA (aarch64; the LAMMPS
+  # engine's FMA clones, src/lammps/fma_clones.hpp), so every build
+  # computes the same bits.
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -ffp-contract=off)
   # Position-independent, so the Python module (a shared object) can link the archive.
   set_target_properties(${target} PROPERTIES POSITION_INDEPENDENT_CODE ON)
 endfunction()

@@ -1,6 +1,7 @@
 // The wall's field in bricks, made on first use: see band_field.hpp.
 #ifdef PFILL_WITH_LAMMPS
 #include "lammps/band_field.hpp"
+#include "lammps/fma_clones.hpp"
 
 #include <sys/mman.h>
 
@@ -171,13 +172,17 @@ void BandField::fill_chunk(int32_t chunk) {
   chunks_[static_cast<size_t>(chunk)].reset(values);
 }
 
-/// pf_sdf_sample's cell and fractions at p (physics.cl), in its operations.
+/// pf_sdf_sample's cell and fractions at p (physics.cl), in its
+/// operations; its fmin and fmax as compares (the same for the finite
+/// positions the engine holds), which compile inline where fmin and fmax
+/// are calls into libm.
 BandField::Cell BandField::cell_at(double px, double py, double pz) const {
   const ScalarGrid& f = field_;
   const double inv = 1 / f.spacing;
-  const double gx = std::fmin(std::fmax((px - f.origin.x) * inv, 0.0), static_cast<double>(f.dims[0] - 1));
-  const double gy = std::fmin(std::fmax((py - f.origin.y) * inv, 0.0), static_cast<double>(f.dims[1] - 1));
-  const double gz = std::fmin(std::fmax((pz - f.origin.z) * inv, 0.0), static_cast<double>(f.dims[2] - 1));
+  auto clamp = [](double g, double hi) { return g > 0.0 ? (g < hi ? g : hi) : 0.0; };
+  const double gx = clamp((px - f.origin.x) * inv, static_cast<double>(f.dims[0] - 1));
+  const double gy = clamp((py - f.origin.y) * inv, static_cast<double>(f.dims[1] - 1));
+  const double gz = clamp((pz - f.origin.z) * inv, static_cast<double>(f.dims[2] - 1));
   Cell c;
   c.i = std::min(static_cast<int>(std::floor(gx)), f.dims[0] - 2);
   c.j = std::min(static_cast<int>(std::floor(gy)), f.dims[1] - 2);
@@ -186,7 +191,7 @@ BandField::Cell BandField::cell_at(double px, double py, double pz) const {
   return c;
 }
 
-bool BandField::sample_unless_deep(double px, double py, double pz, double* g, double& phi, int32_t& slot) {
+PFILL_FMA_CLONES bool BandField::sample_unless_deep(double px, double py, double pz, double* g, double& phi, int32_t& slot) {
   const Cell c = cell_at(px, py, pz);
   const int32_t b = brick(c.i, c.j, c.k);
   if (b == kDeep) return false;
@@ -198,7 +203,7 @@ bool BandField::sample_unless_deep(double px, double py, double pz, double* g, d
   return true;
 }
 
-double BandField::sample(double px, double py, double pz, double* g) {
+PFILL_FMA_CLONES double BandField::sample(double px, double py, double pz, double* g) {
   double phi = 0;
   int32_t slot = 0;
   if (sample_unless_deep(px, py, pz, g, phi, slot)) return phi;
@@ -213,7 +218,7 @@ double BandField::sample(double px, double py, double pz, double* g) {
                                g);
 }
 
-void BandField::prefetch(double px, double py, double pz, int32_t slot) const {
+PFILL_FMA_CLONES void BandField::prefetch(double px, double py, double pz, int32_t slot) const {
   if (slot < 0 || static_cast<size_t>(slot) >= bricks_.size() || !chunks_[static_cast<size_t>(slot >> kChunkShift)])
     return;
   const Cell c = cell_at(px, py, pz);  // (in another brick since: a useless hint, no harm)

@@ -1,6 +1,7 @@
 // The LAMMPS engine's step callback: see step_callback.hpp.
 #ifdef PFILL_WITH_LAMMPS
 #include "lammps/step_callback.hpp"
+#include "lammps/fma_clones.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -58,7 +59,7 @@ void StepCallback::set_band_field(std::unique_ptr<BandField> field, bool atoms_e
 
 std::vector<LocalRecord> StepCallback::take_history() { return std::exchange(local_history_, {}); }
 
-void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, double** fext) {
+PFILL_FMA_CLONES void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, double** fext) {
   for (int i = 0; i < nlocal; ++i) fext[i][0] = fext[i][1] = fext[i][2] = 0;
   // `run` calls the fixes' setup too (post_force at the run's first
   // step number): that is no step.
@@ -120,7 +121,7 @@ void StepCallback::on_step(int64_t step, int nlocal, int* tags, double** x, doub
   local_history_.push_back(rec);
 }
 
-void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double* om,
+PFILL_FMA_CLONES void StepCallback::wall(int tag, double* p, const double* p0, double* u, double radius, double* om,
                         LocalRecord& rec) {
   double& omega = om[0];
   BandField& field = *field_;
@@ -170,7 +171,7 @@ void StepCallback::wall(int tag, double* p, const double* p0, double* u, double 
 /// no pair force (a second pass over the same list cost as much as this).
 /// Positions and velocities are the step's start (ghosts' from this step's
 /// communication).
-double StepCallback::pair_forces(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
+PFILL_FMA_CLONES double StepCallback::pair_forces(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
   force_.assign(3 * static_cast<size_t>(nlocal), 0.0);
   void* lmp = session_.handle();
   const int list = lammps_find_pair_neighlist(lmp, "zero", 1, 0, 0);
