@@ -191,7 +191,8 @@ BandField::Cell BandField::cell_at(double px, double py, double pz) const {
   return c;
 }
 
-PFILL_FMA_CLONES bool BandField::sample_unless_deep(double px, double py, double pz, double* g, double& phi, int32_t& slot) {
+PFILL_FMA_CLONES bool BandField::sample_unless_deep(double px, double py, double pz, double* g, double& phi,
+                                                    int32_t& slot) {
   const Cell c = cell_at(px, py, pz);
   const int32_t b = brick(c.i, c.j, c.k);
   if (b == kDeep) return false;

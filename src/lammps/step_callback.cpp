@@ -171,7 +171,8 @@ PFILL_FMA_CLONES void StepCallback::wall(int tag, double* p, const double* p0, d
 /// no pair force (a second pass over the same list cost as much as this).
 /// Positions and velocities are the step's start (ghosts' from this step's
 /// communication).
-PFILL_FMA_CLONES double StepCallback::pair_forces(int nlocal, double** x, double** v, const double* radius, const double* rmass) {
+PFILL_FMA_CLONES double StepCallback::pair_forces(int nlocal, double** x, double** v, const double* radius,
+                                                   const double* rmass) {
   force_.assign(3 * static_cast<size_t>(nlocal), 0.0);
   void* lmp = session_.handle();
   const int list = lammps_find_pair_neighlist(lmp, "zero", 1, 0, 0);
