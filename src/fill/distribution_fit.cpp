@@ -144,6 +144,13 @@ double ks_in_parts(const RadiusDistribution& d, const std::vector<double>& radii
   return distance;
 }
 
+/// The sums of the radii's deviations from `mean`, squared and cubed.
+std::vector<double> deviation_sums(const std::vector<double>& radii, double mean) {
+  std::vector<double> m{0, 0};
+  for (double r : radii) m[0] += (r - mean) * (r - mean), m[1] += std::pow(r - mean, 3);
+  return m;
+}
+
 /// The radii's mean, standard deviation and skewness into `fit`, from
 /// their count n, their sum, and the sums of their deviations' squares
 /// and cubes (about the mean).
@@ -159,7 +166,8 @@ void set_moments(DistributionFit& fit, double n, double mean, double m2, double 
 DistributionFit compare_distribution(const RadiusDistribution& d, const std::vector<double>& radii_in) {
   const std::vector<double> radii = finite_sorted(radii_in);
   const std::vector<SizeClass> classes = fit_classes(d);
-  DistributionFit fit = fit_of_classes(d, classes, class_sums(classes, radii));
+  const std::vector<double> sums = class_sums(classes, radii);
+  DistributionFit fit = fit_of_classes(d, classes, sums);
   const double n = static_cast<double>(radii.size());
   if (by_ks(d)) {
     fit.distance = radii.empty() ? 1 : 0;
@@ -167,12 +175,9 @@ DistributionFit compare_distribution(const RadiusDistribution& d, const std::vec
       fit.distance = std::max(fit.distance, ks_terms(d, radii[i], static_cast<double>(i), n));
   }
   if (n > 0) {
-    double sum = 0;
-    for (double r : radii) sum += r;
-    const double mean = sum / n;
-    double m2 = 0, m3 = 0;
-    for (double r : radii) m2 += (r - mean) * (r - mean), m3 += std::pow(r - mean, 3);
-    set_moments(fit, n, mean, m2, m3);
+    const double mean = sums[2 * classes.size() + 2] / n;
+    const std::vector<double> m = deviation_sums(radii, mean);
+    set_moments(fit, n, mean, m[0], m[1]);
   }
   return fit;
 }
@@ -190,8 +195,7 @@ DistributionFit compare_distribution(const RadiusDistribution& d, const std::vec
   if (by_ks(d)) fit.distance = n > 0 ? ks_in_parts(d, radii, n, group) : 1;
   if (n > 0) {
     const double mean = sums[2 * classes.size() + 2] / n;
-    std::vector<double> deviations{0, 0};
-    for (double r : radii) deviations[0] += (r - mean) * (r - mean), deviations[1] += std::pow(r - mean, 3);
+    std::vector<double> deviations = deviation_sums(radii, mean);
     group.sum(deviations);
     set_moments(fit, n, mean, deviations[0], deviations[1]);
   }
