@@ -38,6 +38,9 @@ import json, sys
 r = json.load(open(sys.argv[1]))
 assert all(p["pass"] != "finish" or p["steps"] > 0 for p in r["passes"]), "no finish"
 assert any(p["pass"] == "finish" for p in r["passes"]), "the finish was left out"
+# The report's sites come from the mesh (src/fill/mesh_sites.hpp): no rank builds a field.
+assert r["field"]["bytes"] == 0, "the report's schedule: a distance field was built"
+assert len(r["sites"]) == 1, "a ball has one site (its centre's ball meets any other's)"
 PY
 lines=$(($(wc -l < "$tmp/out.csv") - 1))
 count=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["metrics"]["particles"])' "$tmp/r.json")
@@ -66,6 +69,42 @@ import json, sys
 many, one = (json.load(open(p))["sites"] for p in sys.argv[1:3])
 assert len(one) > 10 and many == one, f"the sites differ: {len(many)} at several ranks, {len(one)} at one"
 print("waves: the same", len(one), "sites at one rank and at several")
+PY
+  # Unequal spheres' sites, and the rare large ones placed first (4 radii
+  # and more, src/fill/large_first.hpp), come from the mesh too: no rank
+  # builds a field; the same sites, the same scale found for the large
+  # ones to fit (0.924 at seed 1; OpenCL 0.924) and as many placed, at any rank count.
+  for n in 1 "$np"; do
+    "$mpirun" --oversubscribe -np "$n" "$pfill" fill --builtin sphere -n 300 --sites 0 --site-spacing 2 --seed 1 \
+      --radii discrete:1:0.99,4:0.01 --engine lammps -q -o "$tmp/big$n.csv" --report "$tmp/big$n.json" \
+      > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+  done
+  check_report "radii 1:4" "$tmp/big$np.json" 280 320
+  python3 - "$tmp/big$np.json" "$tmp/big1.json" "$tmp/big$np.csv" "$tmp/big1.csv" <<'PY'
+import csv, json, sys
+many, one = (json.load(open(p)) for p in sys.argv[1:3])
+for r in (many, one):
+    assert r["field"]["bytes"] == 0, "unequal spheres: a distance field was built"
+assert len(one["sites"]) > 10 and many["sites"] == one["sites"], "unequal spheres: the sites differ"
+assert many["radius"] == one["radius"] < 0.105, f"the large spheres' scale differs: {many['radius']} {one['radius']}"
+large = []
+for path in sys.argv[3:5]:
+    radii = [float(row["radius"]) for row in csv.DictReader(open(path))]
+    large.append(sum(1 for r in radii if r > 2 * min(radii)))
+assert large[0] == large[1] == 3, f"large spheres: {large[0]} at several ranks, {large[1]} at one"
+print("unequal: the same", len(one["sites"]), "sites, radius", one["radius"], "and 3 large spheres, no field")
+PY
+  # The report's schedule round a torus: its sites spread round the ring, the same at any rank count.
+  for n in 1 "$np"; do
+    "$mpirun" --oversubscribe -np "$n" "$pfill" fill --builtin torus -n 200 --sites 3 --seed 1 --engine lammps -q \
+      -o "$tmp/ring$n.csv" --report "$tmp/ring$n.json" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+  done
+  python3 - "$tmp/ring$np.json" "$tmp/ring1.json" <<'PY'
+import json, sys
+many, one = (json.load(open(p)) for p in sys.argv[1:3])
+assert many["field"]["bytes"] == 0 and one["field"]["bytes"] == 0, "the report's schedule: a field was built"
+assert len(one["sites"]) == 3 and many["sites"] == one["sites"], "the report's sites differ"
+print("the report's schedule: the same 3 sites round the torus at one rank and at several, no field")
 PY
 fi
 

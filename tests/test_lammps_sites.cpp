@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "fill/held_sites.hpp"
+#include "fill/large_first.hpp"
+#include "fill/mesh_sites.hpp"
 #include "lammps_fixtures.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/lammps.hpp"
@@ -106,4 +108,57 @@ TEST_CASE("lammps engine: sites held per rank are one process's, each once, and 
   hand_over_sites(held, *lmp, moved);
   check_held_where_decided(held, moved);
   CHECK(all_keys(held, *lmp) == expected);
+}
+
+// Unequal spheres' rare large ones (src/fill/large_first.hpp): each rank
+// holds the candidates of its sub-domain only, and the placement over the
+// ranks is the one process's on every candidate, sphere for sphere.
+TEST_CASE("lammps engine: large spheres placed on candidates held per rank, as one process places them") {
+  if (!lammps_available()) return;
+  std::unique_ptr<ParticleEngine> lmp = make_lammps_engine(test::small_params());
+  lmp->share_field(test::ball_field(0.5, 0.02));
+  const Mesh ball = make_icosphere(0.45, 4);
+  const Boundary boundary(ball);
+  const BirthView view = lmp->birth_view(0.05, false);
+  const HeldCandidates held = mesh_candidates(boundary, ball.bounds(), 0.012, 0.05, view);
+  const HeldCandidates whole = mesh_candidates(boundary, ball.bounds(), 0.012, 0.05, BirthView{});
+  REQUIRE(whole.points.size() > 1000);
+  std::vector<uint64_t> orders, expected;
+  for (const LargeCandidate& c : held.points) orders.push_back(c.order);
+  for (const LargeCandidate& c : whole.points) expected.push_back(c.order);
+  lmp->gather_over_processes(orders);
+  std::sort(orders.begin(), orders.end());
+  CHECK(orders == expected);  // each candidate held once
+
+  LargeFirstSettings s;
+  s.wall_gap = 0.005;
+  s.pair_gap = 0.01;
+  const std::vector<double> radii{0.2, 0.15, 0.12, 0.1, 0.1, 0.08, 0.08, 0.06, 0.06, 0.06};
+  const std::shared_ptr<ProcessGroup> group = lmp->process_group();
+  ProcessGroup one;
+  const LargePlacement split = place_large_first(held, radii, s, *group);
+  const LargePlacement alone = place_large_first(whole, radii, s, one);
+  INFO(alone.centres.size() << " of " << radii.size() << " placed");
+  CHECK(alone.centres.size() >= 6);
+  REQUIRE(split.centres.size() == alone.centres.size());
+  for (size_t k = 0; k < alone.centres.size(); ++k) {
+    CHECK(length(split.centres[k] - alone.centres[k]) == 0);
+    CHECK(split.radii[k] == alone.radii[k]);
+    CHECK(-boundary.signed_distance(alone.centres[k]) >= alone.radii[k] + s.wall_gap);
+  }
+  if (lammps_mpi_start().size > 1) CHECK(held.points.size() < whole.points.size());  // no rank holds them all
+
+  // The report's few sites (round a torus: a ball has one): one process's, site for site.
+  const Mesh torus = make_torus(0.3, 0.12);
+  const Boundary ring(torus);
+  const std::vector<BirthSite> sites =
+      choose_birth_sites(mesh_candidates(ring, torus.bounds(), 0.01, 0.03, view), 3, 0.03, 0.5, *group);
+  const std::vector<BirthSite> sites_alone =
+      choose_birth_sites(mesh_candidates(ring, torus.bounds(), 0.01, 0.03, BirthView{}), 3, 0.03, 0.5, one);
+  CHECK(sites_alone.size() == 3);
+  REQUIRE(sites.size() == sites_alone.size());
+  for (size_t k = 0; k < sites.size(); ++k) {
+    CHECK(length(sites[k].position - sites_alone[k].position) == 0);
+    CHECK(sites[k].depth == sites_alone[k].depth);
+  }
 }

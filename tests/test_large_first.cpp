@@ -5,8 +5,10 @@
 #include <cmath>
 
 #include "fill/large_first.hpp"
+#include "pfill/boundary.hpp"
 #include "pfill/count_rule.hpp"
 #include "pfill/radius_distribution.hpp"
+#include "pfill/shapes.hpp"
 
 using namespace pfill;
 
@@ -17,12 +19,18 @@ ScalarGrid ball_field() {
   return sampled_grid(1.1, 0.02, [](const Vec3& p) { return length(p) - 1.0; });
 }
 
-void check_placement(const LargePlacement& p, const LargeFirstSettings& s) {
+// Each placed sphere `s.wall_gap` inside (by `depth`, the unit ball's by default) and apart.
+template <class Depth>
+void check_placement(const LargePlacement& p, const LargeFirstSettings& s, const Depth& depth) {
   for (size_t i = 0; i < p.centres.size(); ++i) {
-    CHECK(1.0 - length(p.centres[i]) >= p.radii[i] + s.wall_gap - 1e-9);
+    CHECK(depth(p.centres[i]) >= p.radii[i] + s.wall_gap - 1e-9);
     for (size_t j = i + 1; j < p.centres.size(); ++j)
       CHECK(length(p.centres[i] - p.centres[j]) >= p.radii[i] + p.radii[j] + s.pair_gap - 1e-9);
   }
+}
+
+void check_placement(const LargePlacement& p, const LargeFirstSettings& s) {
+  check_placement(p, s, [](const Vec3& c) { return 1.0 - length(c); });
 }
 
 }  // namespace
@@ -45,6 +53,36 @@ TEST_CASE("large spheres placed first: all that fit, clear of the wall and of ea
   check_placement(three, s);
   // Too large for the ball: none.
   CHECK(place_large_first(f, {1.2}, s).centres.empty());
+}
+
+// Where no process builds a field (the LAMMPS engine's sites from the
+// mesh): the candidates from the mesh's exact depths, held by one process
+// here (split over ranks: tests/test_lammps_sites.cpp).
+TEST_CASE("large spheres placed first on candidates from the mesh: the same rule, clear of the wall") {
+  LargeFirstSettings s;
+  s.wall_gap = 0.01;
+  s.pair_gap = 0.02;
+  const Mesh ball = make_icosphere(1.0, 5);
+  const Boundary boundary(ball);
+  const HeldCandidates held = mesh_candidates(boundary, ball.bounds(), 0.03, 0.2, BirthView{});
+  REQUIRE(held.points.size() > 1000);
+  for (size_t k = 1; k < held.points.size(); ++k) CHECK(held.points[k - 1].order < held.points[k].order);
+  for (const LargeCandidate& c : held.points) {
+    CHECK(c.depth >= 0.2);
+    CHECK(c.depth == doctest::Approx(-boundary.signed_distance(c.point)).epsilon(1e-9));
+  }
+  ProcessGroup one;
+  auto depth = [&](const Vec3& c) { return -boundary.signed_distance(c); };
+  const LargePlacement four = place_large_first(held, {0.4, 0.4, 0.4, 0.4}, s, one);
+  CHECK(four.centres.size() == 4);
+  check_placement(four, s, depth);
+  const LargePlacement three = place_large_first(held, {0.48, 0.48, 0.48, 0.2}, s, one);
+  CHECK(three.centres.size() == 3);
+  CHECK(three.radii.back() == 0.2);
+  check_placement(three, s, depth);
+  CHECK(place_large_first(held, {1.2}, s, one).centres.empty());
+  // A first sphere too large is skipped, the others placed.
+  CHECK(place_large_first(held, {1.2, 0.3}, s, one).radii == std::vector<double>{0.3});
 }
 
 TEST_CASE("count rule: rare large spheres are inclusions, common mixes are not") {

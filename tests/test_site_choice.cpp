@@ -11,8 +11,11 @@
 #include <memory>
 #include <vector>
 
+#include "fill/mesh_sites.hpp"
 #include "fill/site_choice.hpp"
+#include "pfill/birth_sites.hpp"
 #include "pfill/boundary.hpp"
+#include "pfill/sdf.hpp"
 #include "pfill/shapes.hpp"
 
 using namespace pfill;
@@ -186,4 +189,44 @@ TEST_CASE("site choice: an object too thin for the depth has no site; a bad spac
   CHECK(one_process(boundary, SiteLattice(slab.bounds(), 0.02, 0.06)).empty());
   CHECK_FALSE(one_process(boundary, SiteLattice(slab.bounds(), 0.02, 0.01)).empty());
   CHECK_THROWS(SiteLattice(slab.bounds(), 0, 0.01));
+}
+
+// The report's few sites where no field is built (src/fill/mesh_sites.hpp):
+// the rule of the field's choice on candidates with the mesh's depths.
+// Round a torus, sites spread round the ring, the first the deepest
+// candidate, their inscribed balls apart; the same rooms the field's
+// choice finds, to within the candidates' spacing (split over ranks:
+// tests/test_lammps_sites.cpp).
+TEST_CASE("report's sites from the mesh: the deepest, then far apart round a torus, as on the field") {
+  const Mesh torus = make_torus(1.0, 0.4);
+  const Boundary boundary(torus);
+  const double step = 0.04, min_depth = 0.1;
+  const HeldCandidates held = mesh_candidates(boundary, torus.bounds(), step, min_depth, BirthView{});
+  ProcessGroup one;
+  const std::vector<BirthSite> sites = choose_birth_sites(held, 4, min_depth, 0.5, one);
+  REQUIRE(sites.size() == 4);
+  double deepest = 0;
+  for (const LargeCandidate& c : held.points) deepest = std::max(deepest, c.depth);
+  CHECK(sites[0].depth == deepest);
+  for (size_t i = 0; i < sites.size(); ++i) {
+    CHECK(sites[i].depth == doctest::Approx(-boundary.signed_distance(sites[i].position)).epsilon(1e-9));
+    CHECK(sites[i].depth >= 0.5 * deepest);
+    for (size_t j = i + 1; j < sites.size(); ++j)
+      CHECK(length(sites[i].position - sites[j].position) >= sites[i].depth + sites[j].depth);
+  }
+  // The field's choice at a like spacing: the same rooms round the ring.
+  SdfOptions o;
+  o.spacing = step;
+  const ScalarGrid field = build_signed_distance_field(boundary, o);
+  const std::vector<BirthSite> on_field = choose_birth_sites(field, 4, min_depth, 0.5);
+  REQUIRE(on_field.size() == sites.size());
+  for (size_t i = 0; i < sites.size(); ++i) {
+    INFO("site " << i);
+    CHECK(std::fabs(sites[i].depth - on_field[i].depth) < 2 * step);
+  }
+  // The second across the ring from the first (its diameter 2), on both.
+  CHECK(length(sites[1].position - sites[0].position) > 1.8);
+  CHECK(length(on_field[1].position - on_field[0].position) > 1.8);
+  // Too thin for the depth asked: none.
+  CHECK(choose_birth_sites(held, 4, 0.5, 0.5, one).empty());
 }

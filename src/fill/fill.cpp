@@ -2,6 +2,7 @@
 //
 //   plan:    radius (from -r or the count rule), field spacing, schedule (fill_plan.cpp)
 //   field:   mesh -> boundary -> signed distance field -> birth sites -> engine
+//            (fill_sites.cpp; FillRun in fill_run.hpp)
 //   pass 1:  while not overfull: births at the sites; update      (fill_passes.cpp)
 //   pass 2:  MaxParts = count - 1; top up to MaxParts
 //   settle:  update until at rest
@@ -22,11 +23,11 @@
 #include "fill/fill_options_check.hpp"
 #include "fill/fill_passes.hpp"
 #include "fill/fill_plan.hpp"
+#include "fill/fill_run.hpp"
 #include "fill/fill_progress.hpp"
 #include "fill/fill_verify.hpp"
 #include "fill/finish.hpp"
 #include "fill/held_sites.hpp"
-#include "fill/large_first_scale.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/device/device.hpp"
@@ -49,9 +50,6 @@ namespace {
 // attraction, -n 4000: 0.5818 at the 0.1% bound and 0.6086 at 5% (1.9 r:
 // 0.466 / 0.526); 1.5 r deleted a third of what it inserted.
 constexpr double kCompressClearance = 1.7;
-// Room sites (FillOptions::room_spacing) lie at least this many radii
-// inside: a newborn there starts clear of the wall as of every sphere.
-constexpr double kRoomSiteDepth = 1.2;
 
 // PFILL_PROFILE=1 (any value but empty or 0): the fill's queue profiles
 // every command, and each pass reports its kernel and transfer time.
@@ -60,314 +58,227 @@ bool profile_requested() {
   return v && *v && std::string(v) != "0";
 }
 
-class FillRun {
- public:
-  /// `diagnostics`: diagnose(mesh), which the caller has already needed.
-  FillRun(const Mesh& mesh, const MeshDiagnostics& diagnostics, const FillOptions& options)
-      : mesh_(mesh), diagnostics_(diagnostics), o_(options), reporter_(options.progress) {}
-
-  FillResult run() {
-    prepare();
-    note_device_times();
-    FillPasses passes(*engine_, o_, plan_, std::move(held_), reporter_, result_);
-    passes.place_large_first(field_);
-    // With the wall from the mesh, the field's samples served the sites
-    // only: the finish's holes ask the mesh (its grid, kept, lays them out).
-    if (wall_) std::vector<float>().swap(field_.values);
-    size_caps_ = passes.size_caps();
-    result_.setup_seconds = std::max(0.0, reporter_.elapsed() - result_.field_seconds);
-    passes.pass1();
-    note_device_times();
-    passes.pass2();
-    note_device_times();
-    passes.settle();
-    note_device_times();
-    result_.sites = passes.all_sites();
-    finish(passes.next_id());
-    note_device_times();
-    verify();
-    if (!size_caps_.empty()) result_.warnings.push_back(held_to_large_note(passes.short_front()));
-    return std::move(result_);
-  }
-
- private:
-  // The fractions asked won over the count: what the fill did, and what came of it.
-  std::string held_to_large_note(const std::string& short_front) const {
-    std::string what = plan_.size_scale < 1 ? "every radius was scaled by " + short_number(plan_.size_scale) +
-                                                  " for the largest spheres to fit"
-                                            : std::string();
-    if (!short_front.empty()) what += (what.empty() ? "" : ", and even so ") + short_front;
-    return what + ": the other classes were held to their shares of them, " +
-           std::to_string(result_.metrics.count) + " spheres at a packing of " +
-           short_number(result_.metrics.packing_fraction);
-  }
-
-  // With a profiling device (PFILL_PROFILE=1): the device's time since the
-  // last call goes to the pass just ended (the first call only starts the
-  // count, past the field upload and the program builds).
-  void note_device_times() {
-    if (!device_ || !device_->profiling()) return;
-    const DeviceTimes now = device_->times();
-    if (device_times_noted_ && !result_.passes.empty()) {
-      result_.passes.back().kernel_seconds = now.kernel_seconds - device_times_.kernel_seconds;
-      result_.passes.back().transfer_seconds = now.transfer_seconds - device_times_.transfer_seconds;
-      for (const auto& [name, seconds] : now.by_kernel) {
-        const auto before = device_times_.by_kernel.find(name);
-        const double pass = seconds - (before == device_times_.by_kernel.end() ? 0.0 : before->second);
-        if (pass > 0) result_.passes.back().kernel_split[name] = pass;
-      }
-    }
-    device_times_ = now;
-    device_times_noted_ = true;
-  }
-
-  // ---- plan, field, sites, engine ----
-  void prepare() {
-    check_fill_options(o_);  // a bad setting is the first thing to say
-    if (!(diagnostics_.volume() > 0))
-      throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
-    plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_);
-    check_fill_options(o_, mesh_, plan_.radius);
-    if (diagnostics_.boundary_edges > 0)
-      result_.warnings.push_back("the mesh is open (" + std::to_string(diagnostics_.boundary_loops) +
-                                 " holes): inside is decided by a majority of rays; particles near the holes may "
-                                 "be removed by the final check");
-    if (diagnostics_.inside_out()) {
-      flip_orientation(mesh_);
-      result_.warnings.push_back("the mesh was inside-out (negative volume): its orientation was reversed");
-    }
-    result_.radius = plan_.radius;
-    result_.expected = static_cast<size_t>(std::llround(plan_.expected));
-    result_.warnings.insert(result_.warnings.end(), plan_.warnings.begin(), plan_.warnings.end());
-
-    reporter_.enter(FillPhase::Field);
-    reporter_.report(0, 0, 0, 0, 0);
-    // The device opens beside the Embree scene and the field (PoCL loads
-    // LLVM and starts its threads: ~0.15-0.25 s); its errors come after the field's, as before.
-    std::future<std::unique_ptr<Device>> device;
-    if (!o_.engine)
-      device = std::async(std::launch::async, [this] { return std::make_unique<Device>(o_.device, profile_requested()); });
-    boundary_ = std::make_unique<Boundary>(mesh_);
-    SdfStats stats;
-    if (o_.engine && o_.wall_from_mesh) {
-      // The engine's wall from the mesh, at the planned spacing; the fill's
-      // sites and holes on a field twice as coarse.
-      wall_ = std::make_unique<ExactField>(*boundary_, plan_.field);
-      const SdfOptions coarse = coarse_options();
-      // Sites split over the processes come from the mesh: the grid only lays out the finish's holes.
-      field_ = sites_from_mesh() ? sdf_lattice(mesh_.bounds(), coarse) : build_signed_distance_field(*boundary_, coarse, &stats);
-    } else {
-      field_ = build_signed_distance_field(*boundary_, plan_.field, &stats);
-    }
-    throw_if_cancelled();  // the field can take seconds; the device's program build too
-    result_.field_seconds = stats.seconds;
-    result_.field_bytes = stats.bytes;
-    result_.field_spacing = field_.spacing;
-    if (!sites_from_mesh()) {
-      plan_sites();
-      rescale_for_large_first();
-    }
-
-    if (device.valid()) device_ = device.get();
-    result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
-    if (device_) check_device_memory(*device_, plan_, stats.bytes);
-    params_ = plan_engine_params(plan_, o_);
-    engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
-    if (o_.log) o_.log(engine_->describe());
-    if (wall_)
-      engine_->share_exact_field(*wall_);
-    else
-      engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
-    if (sites_from_mesh()) choose_split_sites(coarse_options());
-  }
-
-  // Waves of equal spheres with the wall from the mesh (the LAMMPS
-  // engine): each process chooses the sites of its own sub-domain from the
-  // mesh's exact distances (site_choice.hpp), and no process builds the
-  // field. A mesh of many parts (add_sites_per_part labels the field's
-  // parts) and a given first site keep the field.
-  bool sites_from_mesh() const {
-    return o_.engine && o_.wall_from_mesh && plan_.waves && !plan_.sizes && !o_.birth && diagnostics_.components <= 1;
-  }
-
-  SdfOptions coarse_options() const {
-    SdfOptions coarse = plan_.field;
-    coarse.spacing *= 2;
-    return coarse;
-  }
-
-  // This process's sites (collective). An object too thin for any takes
-  // the field's way after all: its one deepest point, or the error that no
-  // sphere fits.
-  void choose_split_sites(const SdfOptions& coarse) {
-    const SiteLattice waves(mesh_.bounds(), o_.site_spacing * plan_.mean_rest_distance(o_),
-                            o_.site_min_depth * plan_.mean_radius);
-    std::optional<SiteLattice> rooms;
-    if (o_.room_spacing > 0) rooms.emplace(mesh_.bounds(), o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
-    held_ = split_sites(*boundary_, waves, rooms, *engine_, engine_->birth_view(0, false));
-    if (held_.total_sites > 0) return;
-    field_ = build_signed_distance_field(*boundary_, coarse);
-    plan_sites();
-  }
-
-  // The birth sites on the field (and the room sites of waves).
-  void plan_sites() {
-    sites_ = plan_birth_sites(plan_, field_, *boundary_, o_);
-    if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site
-      const PartSites parts = add_sites_per_part(field_, plan_.radius, sites_);
-      result_.parts = parts.parts;
-      result_.parts_too_small = parts.too_small;
-      if (parts.too_small > 0)
-        result_.warnings.push_back(std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
-                                   " closed parts are too small for a sphere of radius " +
-                                   short_number(plan_.radius) + " and stay empty");
-    }
-    // (Unequal spheres: the waves' sites alone.)
-    std::vector<BirthSite> room_sites;
-    if (plan_.waves && o_.room_spacing > 0 && !plan_.sizes)
-      room_sites = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
-    held_ = replicated_sites(sites_, std::move(room_sites));
-  }
-
-  // Unequal spheres sized by a count whose rare large ones do not all fit
-  // at the count rule's radii: every radius shrinks until they do (large_first_scale.hpp),
-  // the plan and sites again at that scale, on the field already built
-  // (its spacing a little coarser against the new radii, which the final
-  // exact check makes good; its band and margin reach past the largest).
-  void rescale_for_large_first() {
-    if (!plan_.sizes || o_.count == 0) return;  // radii in mesh units (no count) are the user's: kept
-    const double scale = large_first_scale(field_, plan_, sites_.size(), o_.seed);
-    if (scale == 1) return;
-    const SdfOptions field = plan_.field;
-    plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_, scale);
-    plan_.field = field;
-    result_.radius = plan_.radius;
-    plan_sites();
-  }
-
-  // ---- finish: overlaps resolved by moving spheres; holes filled (finish.cpp) ----
-  void finish(uint64_t next_id) {
-    const Stopwatch t;
-    reporter_.enter(FillPhase::Finish);
-    reporter_.time_left().finish_started(reporter_.elapsed());
-    fill_steps_ = engine_->steps_done();
-    next_id_ = next_id;
-    if (!device_ && !o_.finish_on_engine) {  // FillOptions::engine: no OpenCL engine for the finish
-      particles_ = to_particle_set(engine_->read_particles());
-      engine_.reset();
-      result_.warnings.push_back("the finish was left out: it needs the OpenCL engine (FillOptions::engine was given)");
-      return;
-    }
-    // Each process hands the finish its own particles (one process: all);
-    // split over processes, at places in process order (SetShare).
-    LocalView handed = engine_->local_view(0);
-    std::vector<Particle> ps = std::move(handed.particles);
-    ps.resize(handed.own);
-    const SetShare share =
-        handed.complete() ? SetShare{} : share_over_processes(*engine_, ps.size(), handed.region, false);
-    // (the verify reaches the other processes through it once the engines are gone)
-    std::shared_ptr<ProcessGroup> group = engine_->process_group();
-    engine_.reset();  // the finish holds the particles from here on
-    reporter_.report(share.total == 0 ? ps.size() : share.total, 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
-    FinishStats stats;
-    auto progress = [&](size_t n, uint32_t pairs) {
-      relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
-      reporter_.report(n, 0, pairs, fill_steps_ + relax_steps_, relax_steps_);
-    };
-    particles_ = device_ ? finish_packing(*device_, params_, field_, std::move(ps), finish_settings(), stats, progress)
-                         : finish_packing(o_.engine, params_, field_, std::move(ps), share, finish_settings(), stats,
-                                          progress);
-    relax_steps_ = stats.steps;
-    field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
-    wall_.reset();
-    result_.finish_removed = stats.removed;
-    result_.finish_forced = stats.forced;
-    result_.finish_rounds = stats.rounds;
-    result_.finish_near_rounds = stats.near_rounds;
-    result_.finish_largest_view = stats.largest_view;
-    result_.holes_filled = stats.inserted;
-    if (!stats.regions.empty()) {  // the result in parts: this process's own spheres (particle_share.hpp)
-      share_.group = std::move(group);
-      share_.regions = std::move(stats.regions);
-      share_.region = stats.region;
-      result_.in_parts = true;
-    }
-    next_id_ = stats.next_id;
-    result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, t.seconds()});
-  }
-
-  FinishSettings finish_settings() const {
-    FinishSettings s;
-    s.radius = plan_.radius;
-    s.sizes = plan_.sizes;
-    s.size_caps = size_caps_;
-    s.max_overlap = o_.max_overlap;
-    s.hole_rounds = o_.hole_rounds;
-    s.hole_clearance = o_.hole_clearance * 2 * o_.rest_distance;
-    // The report's own tests end pass 1 before the object is full (at about
-    // 60% of the count on the bunny with attraction): the finish compresses
-    // what they left. The blocked-sites test ends it full.
-    if (o_.hole_rounds > 0 && (result_.stop_signal == to_string(StopCriterion::KineticEnergy) ||
-                               result_.stop_signal == to_string(StopCriterion::Collisions)))
-      s.compress_clearance = kCompressClearance * o_.rest_distance;
-    s.fit_clearance = 2 * o_.rest_distance;
-    // FIRE runs on the OpenCL engine and on LAMMPS (finish_on_engine), for
-    // equal spheres, and not while compressing: it made room
-    // so well that the bunny's compression ran all 30 rounds, and a
-    // lognormal mix of radii ran out of rounds too (docs/finish.md, FIRE);
-    // with each pair's energy by its volume (eps q^3) FIRE still ends
-    // below the damped relaxation for mixtures (docs/polydisperse.md).
-    s.fire = (device_ != nullptr || o_.finish_on_engine) && s.compress_clearance == 0 && !plan_.sizes;
-    s.first_id = next_id_;
-    s.cancelled = o_.cancelled;
-    s.wall = wall_.get();
-    return s;
-  }
-
-  // ---- verify: exact containment, holes, metrics (fill_verify.cpp) ----
-  void verify() {
-    const Stopwatch t;
-    reporter_.enter(FillPhase::Verify);
-    const size_t count = static_cast<size_t>(share_.group->sum(static_cast<double>(particles_.size())));
-    reporter_.report(count, 0, 0, fill_steps_ + relax_steps_, relax_steps_);
-    verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, size_caps_, o_, std::move(particles_), share_,
-                next_id_, result_);
-    result_.verify_seconds = t.seconds();
-    result_.seconds = reporter_.elapsed();
-    result_.steps = fill_steps_ + relax_steps_;
-    result_.peak_memory = peak_resident_bytes();
-  }
-
-  /// The caller's cancel hook (FillOptions::cancelled).
-  void throw_if_cancelled() const {
-    if (o_.cancelled && o_.cancelled()) throw Cancelled();
-  }
-
-  Mesh mesh_;
-  MeshDiagnostics diagnostics_;
-  FillOptions o_;
-  FillReporter reporter_;
-  FillPlan plan_;
-  std::unique_ptr<Boundary> boundary_;
-  ScalarGrid field_;
-  std::unique_ptr<ExactField> wall_;  ///< FillOptions::wall_from_mesh: the engines' wall (field_ is then coarser)
-  std::vector<BirthSite> sites_;
-  HeldSites held_;  ///< the sites this process holds, for FillPasses (sites_ and the waves' room sites, or split)
-  std::unique_ptr<Device> device_;
-  EngineParams params_;
-  std::unique_ptr<ParticleEngine> engine_;
-  ParticleSet particles_;  ///< after the finish: this process's own spheres (one process: all)
-  ParticleShare share_;     ///< where the other processes' lie (one process: nowhere)
-  uint64_t next_id_ = 1;
-  uint64_t relax_steps_ = 0;  ///< the finish's steps
-  uint64_t fill_steps_ = 0;   ///< engine steps of passes 1 to the settle, kept once the engine is gone
-  DeviceTimes device_times_;  ///< the device's times at the last note_device_times()
-  bool device_times_noted_ = false;
-  FillResult result_;
-  std::vector<size_t> size_caps_;  ///< each size class's most spheres, where the largest fell short (FillPasses::size_caps)
-};
-
 }  // namespace
+
+FillResult FillRun::run() {
+  prepare();
+  note_device_times();
+  FillPasses passes(*engine_, o_, plan_, std::move(held_), reporter_, result_);
+  passes.place_large_first(large_placer());
+  candidates_.reset();
+  // With the wall from the mesh, the field's samples served the sites
+  // only: the finish's holes ask the mesh (its grid, kept, lays them out).
+  if (wall_) std::vector<float>().swap(field_.values);
+  size_caps_ = passes.size_caps();
+  result_.setup_seconds = std::max(0.0, reporter_.elapsed() - result_.field_seconds);
+  passes.pass1();
+  note_device_times();
+  passes.pass2();
+  note_device_times();
+  passes.settle();
+  note_device_times();
+  result_.sites = passes.all_sites();
+  finish(passes.next_id());
+  note_device_times();
+  verify();
+  if (!size_caps_.empty()) result_.warnings.push_back(held_to_large_note(passes.short_front()));
+  return std::move(result_);
+}
+
+// The fractions asked won over the count: what the fill did, and what came of it.
+std::string FillRun::held_to_large_note(const std::string& short_front) const {
+  std::string what = plan_.size_scale < 1 ? "every radius was scaled by " + short_number(plan_.size_scale) +
+                                                " for the largest spheres to fit"
+                                          : std::string();
+  if (!short_front.empty()) what += (what.empty() ? "" : ", and even so ") + short_front;
+  return what + ": the other classes were held to their shares of them, " +
+         std::to_string(result_.metrics.count) + " spheres at a packing of " +
+         short_number(result_.metrics.packing_fraction);
+}
+
+// With a profiling device (PFILL_PROFILE=1): the device's time since the
+// last call goes to the pass just ended (the first call only starts the
+// count, past the field upload and the program builds).
+void FillRun::note_device_times() {
+  if (!device_ || !device_->profiling()) return;
+  const DeviceTimes now = device_->times();
+  if (device_times_noted_ && !result_.passes.empty()) {
+    result_.passes.back().kernel_seconds = now.kernel_seconds - device_times_.kernel_seconds;
+    result_.passes.back().transfer_seconds = now.transfer_seconds - device_times_.transfer_seconds;
+    for (const auto& [name, seconds] : now.by_kernel) {
+      const auto before = device_times_.by_kernel.find(name);
+      const double pass = seconds - (before == device_times_.by_kernel.end() ? 0.0 : before->second);
+      if (pass > 0) result_.passes.back().kernel_split[name] = pass;
+    }
+  }
+  device_times_ = now;
+  device_times_noted_ = true;
+}
+
+// ---- plan, field, sites, engine ----
+void FillRun::prepare() {
+  check_fill_options(o_);  // a bad setting is the first thing to say
+  if (!(diagnostics_.volume() > 0))
+    throw Error(mesh_.source + ": the mesh encloses no volume; pfill needs a closed solid");
+  plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_);
+  check_fill_options(o_, mesh_, plan_.radius);
+  if (diagnostics_.boundary_edges > 0)
+    result_.warnings.push_back("the mesh is open (" + std::to_string(diagnostics_.boundary_loops) +
+                               " holes): inside is decided by a majority of rays; particles near the holes may "
+                               "be removed by the final check");
+  if (diagnostics_.inside_out()) {
+    flip_orientation(mesh_);
+    result_.warnings.push_back("the mesh was inside-out (negative volume): its orientation was reversed");
+  }
+  result_.radius = plan_.radius;
+  result_.expected = static_cast<size_t>(std::llround(plan_.expected));
+  result_.warnings.insert(result_.warnings.end(), plan_.warnings.begin(), plan_.warnings.end());
+
+  reporter_.enter(FillPhase::Field);
+  reporter_.report(0, 0, 0, 0, 0);
+  // The device opens beside the Embree scene and the field (PoCL loads
+  // LLVM and starts its threads: ~0.15-0.25 s); its errors come after the field's, as before.
+  std::future<std::unique_ptr<Device>> device;
+  if (!o_.engine)
+    device = std::async(std::launch::async, [this] { return std::make_unique<Device>(o_.device, profile_requested()); });
+  boundary_ = std::make_unique<Boundary>(mesh_);
+  SdfStats stats;
+  if (o_.engine && o_.wall_from_mesh) {
+    // The engine's wall from the mesh, at the planned spacing; the fill's
+    // sites and holes on a field twice as coarse.
+    wall_ = std::make_unique<ExactField>(*boundary_, plan_.field);
+    const SdfOptions coarse = coarse_options();
+    // Sites split over the processes come from the mesh: the grid only lays out the finish's holes.
+    field_ = sites_from_mesh() ? sdf_lattice(mesh_.bounds(), coarse) : build_signed_distance_field(*boundary_, coarse, &stats);
+  } else {
+    field_ = build_signed_distance_field(*boundary_, plan_.field, &stats);
+  }
+  throw_if_cancelled();  // the field can take seconds; the device's program build too
+  result_.field_seconds = stats.seconds;
+  result_.field_bytes = stats.bytes;
+  result_.field_spacing = field_.spacing;
+  if (!sites_from_mesh()) {
+    plan_sites();
+    rescale_for_large_first();
+  }
+
+  if (device.valid()) device_ = device.get();
+  result_.device = device_ ? device_->info().name : std::string("none (FillOptions::engine)");
+  if (device_) check_device_memory(*device_, plan_, stats.bytes);
+  make_engine();
+  if (o_.log) o_.log(engine_->describe());
+  if (!sites_from_mesh()) return;
+  choose_split_sites(coarse_options());
+  rescale_split();
+}
+
+void FillRun::make_engine() {
+  params_ = plan_engine_params(plan_, o_);
+  engine_ = o_.engine ? o_.engine(params_) : std::make_unique<Engine>(*device_, params_);
+  if (wall_)
+    engine_->share_exact_field(*wall_);
+  else
+    engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
+}
+
+// ---- finish: overlaps resolved by moving spheres; holes filled (finish.cpp) ----
+void FillRun::finish(uint64_t next_id) {
+  const Stopwatch t;
+  reporter_.enter(FillPhase::Finish);
+  reporter_.time_left().finish_started(reporter_.elapsed());
+  fill_steps_ = engine_->steps_done();
+  next_id_ = next_id;
+  if (!device_ && !o_.finish_on_engine) {  // FillOptions::engine: no OpenCL engine for the finish
+    particles_ = to_particle_set(engine_->read_particles());
+    engine_.reset();
+    result_.warnings.push_back("the finish was left out: it needs the OpenCL engine (FillOptions::engine was given)");
+    return;
+  }
+  // Each process hands the finish its own particles (one process: all);
+  // split over processes, at places in process order (SetShare).
+  LocalView handed = engine_->local_view(0);
+  std::vector<Particle> ps = std::move(handed.particles);
+  ps.resize(handed.own);
+  const SetShare share =
+      handed.complete() ? SetShare{} : share_over_processes(*engine_, ps.size(), handed.region, false);
+  // (the verify reaches the other processes through it once the engines are gone)
+  std::shared_ptr<ProcessGroup> group = engine_->process_group();
+  engine_.reset();  // the finish holds the particles from here on
+  reporter_.report(share.total == 0 ? ps.size() : share.total, 0, 0, fill_steps_, 0);  // the phase starts (progress lines, time left)
+  FinishStats stats;
+  auto progress = [&](size_t n, uint32_t pairs) {
+    relax_steps_ = stats.steps;  // the finish's steps so far, for the progress line
+    reporter_.report(n, 0, pairs, fill_steps_ + relax_steps_, relax_steps_);
+  };
+  particles_ = device_ ? finish_packing(*device_, params_, field_, std::move(ps), finish_settings(), stats, progress)
+                       : finish_packing(o_.engine, params_, field_, std::move(ps), share, finish_settings(), stats,
+                                        progress);
+  relax_steps_ = stats.steps;
+  field_ = ScalarGrid();  // (memory: up to 256 MiB) nothing after the finish samples the field
+  wall_.reset();
+  result_.finish_removed = stats.removed;
+  result_.finish_forced = stats.forced;
+  result_.finish_rounds = stats.rounds;
+  result_.finish_near_rounds = stats.near_rounds;
+  result_.finish_largest_view = stats.largest_view;
+  result_.holes_filled = stats.inserted;
+  if (!stats.regions.empty()) {  // the result in parts: this process's own spheres (particle_share.hpp)
+    share_.group = std::move(group);
+    share_.regions = std::move(stats.regions);
+    share_.region = stats.region;
+    result_.in_parts = true;
+  }
+  next_id_ = stats.next_id;
+  result_.passes.push_back({to_string(FillPhase::Finish), stats.steps, t.seconds()});
+}
+
+FinishSettings FillRun::finish_settings() const {
+  FinishSettings s;
+  s.radius = plan_.radius;
+  s.sizes = plan_.sizes;
+  s.size_caps = size_caps_;
+  s.max_overlap = o_.max_overlap;
+  s.hole_rounds = o_.hole_rounds;
+  s.hole_clearance = o_.hole_clearance * 2 * o_.rest_distance;
+  // The report's own tests end pass 1 before the object is full (at about
+  // 60% of the count on the bunny with attraction): the finish compresses
+  // what they left. The blocked-sites test ends it full.
+  if (o_.hole_rounds > 0 && (result_.stop_signal == to_string(StopCriterion::KineticEnergy) ||
+                             result_.stop_signal == to_string(StopCriterion::Collisions)))
+    s.compress_clearance = kCompressClearance * o_.rest_distance;
+  s.fit_clearance = 2 * o_.rest_distance;
+  // FIRE runs on the OpenCL engine and on LAMMPS (finish_on_engine), for
+  // equal spheres, and not while compressing: it made room
+  // so well that the bunny's compression ran all 30 rounds, and a
+  // lognormal mix of radii ran out of rounds too (docs/finish.md, FIRE);
+  // with each pair's energy by its volume (eps q^3) FIRE still ends
+  // below the damped relaxation for mixtures (docs/polydisperse.md).
+  s.fire = (device_ != nullptr || o_.finish_on_engine) && s.compress_clearance == 0 && !plan_.sizes;
+  s.first_id = next_id_;
+  s.cancelled = o_.cancelled;
+  s.wall = wall_.get();
+  return s;
+}
+
+// ---- verify: exact containment, holes, metrics (fill_verify.cpp) ----
+void FillRun::verify() {
+  const Stopwatch t;
+  reporter_.enter(FillPhase::Verify);
+  const size_t count = static_cast<size_t>(share_.group->sum(static_cast<double>(particles_.size())));
+  reporter_.report(count, 0, 0, fill_steps_ + relax_steps_, relax_steps_);
+  verify_fill(*boundary_, mesh_, plan_.volume, plan_.radius, plan_.sizes, size_caps_, o_, std::move(particles_), share_,
+              next_id_, result_);
+  result_.verify_seconds = t.seconds();
+  result_.seconds = reporter_.elapsed();
+  result_.steps = fill_steps_ + relax_steps_;
+  result_.peak_memory = peak_resident_bytes();
+}
+
+/// The caller's cancel hook (FillOptions::cancelled).
+void FillRun::throw_if_cancelled() const {
+  if (o_.cancelled && o_.cancelled()) throw Cancelled();
+}
+
 
 namespace {
 

@@ -53,21 +53,21 @@ FillPasses::FillPasses(ParticleEngine& engine, const FillOptions& o, const FillP
       newest_(Engine::kGone) {
   if (plan.sizes) {
     sizes_.emplace(*plan.sizes);
-    sizes_->front_load(plan.expected, front_first_wave(plan, held_.sites.size()));
+    sizes_->front_load(plan.expected, front_first_wave(plan, held_.total_sites));
   }
 }
 
 // ---- before pass 1: the rare large spheres, placed ----
-void FillPasses::place_large_first(const ScalarGrid& field) {
+void FillPasses::place_large_first(const LargePlacer& place) {
   if (!sizes_) return;
   // The radii large_first_scale tried (the same stream, on every process).
-  const std::vector<double> radii = front_loaded_radii(plan_, held_.sites.size(), o_.seed);
+  const std::vector<double> radii = front_loaded_radii(plan_, held_.total_sites, o_.seed);
   if (radii.empty()) return;
   // Clear of the wall and of each other: every placed sphere starts with no force on it.
-  const LargePlacement placed = pfill::place_large_first(field, radii, large_first_settings(plan_.radius));
+  const LargePlacement placed = place(radii, large_first_settings(plan_.radius));
   std::vector<Particle> ps;
   for (size_t k = 0; k < placed.centres.size(); ++k) {
-    Particle p = newborn_at(placed.centres[k], placed.radii[k], held_.sites.size() + held_.room_sites.size() + k);
+    Particle p = newborn_at(placed.centres[k], placed.radii[k], held_.total_sites + held_.total_room_sites + k);
     p.velocity = Vec3();
     ps.push_back(p);
     sizes_->add(p.radius);

@@ -27,6 +27,7 @@
 #include "fill/fill_plan.hpp"
 #include "fill/fill_progress.hpp"
 #include "fill/held_sites.hpp"
+#include "fill/large_first.hpp"
 #include "fill/site_verdicts.hpp"
 #include "fill/size_deficit.hpp"
 #include "pfill/engine/particle_engine.hpp"
@@ -44,10 +45,11 @@ class FillPasses {
              FillReporter& reporter, FillResult& result);
 
   /// Unequal spheres with a rare large class (SizeDeficit::front_load):
-  /// its quota placed at rest at deep points of `field`, clear of the wall
-  /// and of each other, before pass 1 (large_first.hpp); a warning when
-  /// fewer fit. Nothing for other fills.
-  void place_large_first(const ScalarGrid& field);
+  /// its quota placed at rest at deep points by `place` (large_first.hpp:
+  /// on the field, or on candidates held per process), clear of the wall
+  /// and of each other, before pass 1; a warning when fewer fit. Nothing
+  /// for other fills.
+  void place_large_first(const LargePlacer& place);
   void pass1();
   void pass2();
   void settle();

@@ -135,24 +135,27 @@ std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& 
   if (plan.waves)
     sites = spread_birth_sites(field, o.site_spacing * plan.mean_rest_distance(o), o.site_min_depth * plan.mean_radius);
   if (sites.empty())  // the report's sites; for waves, the one deepest point of a thin object
-    sites = choose_birth_sites(field, o.sites < 0 ? 2 : std::max(1, o.sites), plan.mean_radius, o.site_depth);
+    sites = choose_birth_sites(field, report_site_count(o), plan.mean_radius, o.site_depth);
   if (sites.empty()) {
     double deepest = 0;
     for (float v : field.values) deepest = std::max(deepest, -static_cast<double>(v));
     throw Error("no particle of radius " + short_number(plan.radius) + " fits: the deepest point is " + short_number(deepest) +
                 " from the surface; choose a smaller radius or a larger count");
   }
-  if (o.birth) {
-    const Vec3 p = *o.birth;
-    if (!boundary.inside(p))
-      throw Error("birth is outside the mesh; give a point inside it or leave it out");
-    const double depth = -boundary.signed_distance(p);
-    if (depth < plan.radius)
-      throw Error("birth is only " + short_number(depth) + " from the surface, less than the radius " +
-                  short_number(plan.radius) + "; move it deeper inside");
-    sites[0] = {p, depth};
-  }
+  put_given_birth(sites, plan, boundary, o);
   return sites;
+}
+
+void put_given_birth(std::vector<BirthSite>& sites, const FillPlan& plan, const Boundary& boundary,
+                     const FillOptions& o) {
+  if (!o.birth || sites.empty()) return;
+  const Vec3 p = *o.birth;
+  if (!boundary.inside(p)) throw Error("birth is outside the mesh; give a point inside it or leave it out");
+  const double depth = -boundary.signed_distance(p);
+  if (depth < plan.radius)
+    throw Error("birth is only " + short_number(depth) + " from the surface, less than the radius " +
+                short_number(plan.radius) + "; move it deeper inside");
+  sites[0] = {p, depth};
 }
 
 EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o) {

@@ -3,6 +3,7 @@
 // schedule and its sites, the engine's settings, and whether the device
 // holds it all.
 #pragma once
+#include <algorithm>
 #include <optional>
 #include <string>
 #include <vector>
@@ -77,6 +78,14 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
 /// birth_point replaces the first. Throws when no sphere fits.
 std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& field, const Boundary& boundary,
                                         const FillOptions& o);
+
+/// How many sites the report's schedule asks (FillOptions::sites; 2 when left to pfill).
+inline int report_site_count(const FillOptions& o) { return o.sites < 0 ? 2 : std::max(1, o.sites); }
+
+/// FillOptions::birth_point in place of the first of `sites`; throws when
+/// it is outside the mesh or less than a radius inside.
+void put_given_birth(std::vector<BirthSite>& sites, const FillPlan& plan, const Boundary& boundary,
+                     const FillOptions& o);
 
 /// The engine's settings for passes 1 to 3: the report's physics in the
 /// units of the plan's radius.

@@ -4,9 +4,21 @@
 // small spheres stream in. So they are placed first, at rest, each at a
 // point of the distance field deep enough for it and clear of the ones
 // placed before; pass 1 then fills around them.
+//
+// Where no process builds a field (the LAMMPS engine's sites from the
+// mesh, FillOptions::wall_from_mesh), the candidates are points of a
+// lattice with the mesh's exact depths, each held by the process whose
+// sub-domain holds it, and each sphere's point is the best of every
+// process's best (one gather of a few words a sphere): the placement is
+// the same at any process count.
 #pragma once
+#include <cstdint>
+#include <functional>
 #include <vector>
 
+#include "pfill/boundary.hpp"
+#include "pfill/engine/birth_view.hpp"
+#include "pfill/engine/process_group.hpp"
 #include "pfill/grid.hpp"
 #include "pfill/vec3.hpp"
 
@@ -33,5 +45,33 @@ struct LargePlacement {
 };
 LargePlacement place_large_first(const ScalarGrid& field, const std::vector<double>& radii,
                                  const LargeFirstSettings& s);
+
+/// A candidate point and its depth; `order` ranks the candidates alike on
+/// every process (ties between equally good points go to the lower).
+struct LargeCandidate {
+  Vec3 point;
+  double depth = 0;
+  uint64_t order = 0;
+};
+
+/// The candidates this process holds: lattice points `step` apart over
+/// `box`, at least `min_depth` inside by the mesh's exact distance, those
+/// `view` decides (a complete view: all), in lattice order.
+struct HeldCandidates {
+  std::vector<LargeCandidate> points;
+  double min_depth = 0;  ///< radii needing less see no shallower point
+};
+HeldCandidates mesh_candidates(const Boundary& boundary, const Box3& box, double step, double min_depth,
+                               const BirthView& view);
+
+/// place_large_first on candidates held across the processes of `group`
+/// (collective; the same result on every process, and at any process
+/// count). The first sphere's starts: its points with the 64 smallest
+/// hashes of their order (a spread sample), and its shallowest.
+LargePlacement place_large_first(const HeldCandidates& held, const std::vector<double>& radii,
+                                 const LargeFirstSettings& s, ProcessGroup& group);
+
+/// A placement of `radii` (largest first) with `s`: on a field or on held candidates.
+using LargePlacer = std::function<LargePlacement(const std::vector<double>& radii, const LargeFirstSettings& s)>;
 
 }  // namespace pfill

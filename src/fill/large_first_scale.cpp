@@ -2,6 +2,7 @@
 #include "fill/large_first_scale.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "fill/counter_rng.hpp"
@@ -47,12 +48,14 @@ std::vector<double> front_loaded_radii(const FillPlan& plan, size_t sites, uint6
   return sizes.front_radii(rng);
 }
 
-double large_first_scale(const ScalarGrid& field, const FillPlan& plan, size_t sites, uint64_t seed) {
+double lowest_large_first_scale() { return std::pow(kScaleStep, kScaleTries); }
+
+double large_first_scale(const LargePlacer& place, const FillPlan& plan, size_t sites, uint64_t seed) {
   const std::vector<double> radii = front_loaded_radii(plan, sites, seed);
   auto fits = [&](double scale) {
     std::vector<double> scaled = radii;
     for (double& r : scaled) r *= scale;
-    return place_large_first(field, scaled, large_first_settings(scale * plan.radius)).centres.size() == radii.size();
+    return place(scaled, large_first_settings(scale * plan.radius)).centres.size() == radii.size();
   };
   if (radii.empty() || fits(1)) return 1;
   double fit = kScaleStep, miss = 1;

@@ -29,11 +29,14 @@ LargeFirstSettings large_first_settings(double smallest_radius);
 /// (counter_rng.hpp: stream 2 of step 0); empty when no class is front-loaded.
 std::vector<double> front_loaded_radii(const FillPlan& plan, size_t sites, uint64_t seed);
 
-/// The largest scale of the plan's radii at which place_large_first
-/// places every front-loaded sphere on `field`: 1, then steps of 0.9 (to
-/// 0.43 at most), then halvings between the last miss and the first fit;
+/// The largest scale of the plan's radii at which `place` places every
+/// front-loaded sphere: 1, then steps of 0.9 (to lowest_large_first_scale()
+/// at most), then halvings between the last miss and the first fit;
 /// 1 when all fit at once, none is front-loaded, or no scale tried fits
 /// them all (the other classes are then held to those placed).
-double large_first_scale(const ScalarGrid& field, const FillPlan& plan, size_t sites, uint64_t seed);
+double large_first_scale(const LargePlacer& place, const FillPlan& plan, size_t sites, uint64_t seed);
+
+/// The smallest scale large_first_scale tries (0.9^8, 0.43).
+double lowest_large_first_scale();
 
 }  // namespace pfill

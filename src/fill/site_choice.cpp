@@ -26,19 +26,14 @@ namespace {
 
 constexpr int kBlock = 6;  // lattice points along a block's side: depths are asked block by block
 
-struct Deep {
-  double depth;
-  uint64_t lattice;
-};
-
 // The points of a block at least min_depth inside, by their exact depth.
 // The block's centre bounds every point's distance (the distance is
 // 1-Lipschitz): a block wholly outside, or nowhere deep enough, asks
 // nothing more; the others ask each point with that bound, which only
 // speeds the search.
-std::vector<Deep> deep_points(const Boundary& boundary, const SiteLattice& l, const std::array<int64_t, 3>& lo,
+std::vector<DeepPoint> deep_points(const Boundary& boundary, const SiteLattice& l, const std::array<int64_t, 3>& lo,
                               const std::array<int64_t, 3>& hi) {
-  std::vector<Deep> out;
+  std::vector<DeepPoint> out;
   Vec3 centre;
   double reach2 = 0;
   for (int a = 0; a < 3; ++a) {
@@ -60,8 +55,10 @@ std::vector<Deep> deep_points(const Boundary& boundary, const SiteLattice& l, co
   return out;
 }
 
-// The deep points of the lattice within `box`, block by block in parallel.
-std::vector<std::vector<Deep>> deep_points_in(const Boundary& boundary, const SiteLattice& lattice, const Box3& box) {
+}  // namespace
+
+std::vector<std::vector<DeepPoint>> deep_points_in(const Boundary& boundary, const SiteLattice& lattice,
+                                                   const Box3& box) {
   std::array<int64_t, 3> lo{}, blocks{};
   for (int a = 0; a < 3; ++a) {
     lo[a] = std::clamp(static_cast<int64_t>(std::floor((box.lo[a] - lattice.origin[a]) / lattice.step)), int64_t{0},
@@ -71,7 +68,7 @@ std::vector<std::vector<Deep>> deep_points_in(const Boundary& boundary, const Si
     blocks[a] = std::max<int64_t>(0, hi - lo[a] + 1 + kBlock - 1) / kBlock;
   }
   const size_t count = static_cast<size_t>(blocks[0] * blocks[1] * blocks[2]);
-  std::vector<std::vector<Deep>> found(count);
+  std::vector<std::vector<DeepPoint>> found(count);
   tbb::parallel_for(size_t(0), count, [&](size_t n) {
     const int64_t m = static_cast<int64_t>(n);
     const std::array<int64_t, 3> b{m % blocks[0], (m / blocks[0]) % blocks[1], m / (blocks[0] * blocks[1])};
@@ -84,8 +81,6 @@ std::vector<std::vector<Deep>> deep_points_in(const Boundary& boundary, const Si
   });
   return found;
 }
-
-}  // namespace
 
 SiteChoice::SiteChoice(const Boundary& boundary, const SiteLattice& lattice, const std::vector<Box3>& regions,
                        int region)
@@ -104,11 +99,11 @@ SiteChoice::SiteChoice(const Boundary& boundary, const SiteLattice& lattice, con
   for (int a = 0; a < 3; ++a)
     grid_dims_[a] = std::max<int64_t>(1, static_cast<int64_t>((grown.hi[a] - grown.lo[a]) / lattice.spacing) + 1);
   grid_origin_ = grown.lo;
-  const std::vector<std::vector<Deep>> found = deep_points_in(boundary, lattice, grown);
+  const std::vector<std::vector<DeepPoint>> found = deep_points_in(boundary, lattice, grown);
 
   // Own, halo (the others' within the spacing of this region), or neither.
-  for (const std::vector<Deep>& f : found)
-    for (const Deep& d : f) {
+  for (const std::vector<DeepPoint>& f : found)
+    for (const DeepPoint& d : f) {
       const Vec3 p = lattice.point(d.lattice);
       if (one) {
         cands_.push_back({d.depth, d.lattice, kUndecided, true, false, false, 0});

@@ -56,6 +56,17 @@ struct SiteLattice {
   Vec3 point(uint64_t index) const;
 };
 
+/// A lattice point at least the lattice's min_depth inside, by the mesh's exact depth.
+struct DeepPoint {
+  double depth;
+  uint64_t lattice;  ///< its lattice index
+};
+
+/// The lattice's deep points within `box`, asked block by block (a block
+/// wholly outside or nowhere deep enough costs one query), in parallel.
+std::vector<std::vector<DeepPoint>> deep_points_in(const Boundary& boundary, const SiteLattice& lattice,
+                                                   const Box3& box);
+
 struct KeyedSite {
   BirthSite site;
   uint64_t key = 0;  ///< a key base + the site's lattice index

@@ -84,31 +84,36 @@ inline void share_open_sites(ParticleEngine& engine, const BirthView& view, std:
 }
 
 /// Unequal spheres' wave: a site with room for some size class, by its
-/// index among the sites, with a bit for each class whose radius (drawn
-/// from the site's stream of that class) has room there.
+/// key (held_sites.hpp) and place, with a bit for each class whose radius
+/// (drawn from the site's stream of that class) has room there.
 struct SiteFits {
-  uint64_t site = 0;
+  uint64_t key = 0;
+  Vec3 position;
   std::vector<uint64_t> bits;
   bool fits(size_t c) const { return (bits[c / 64] >> (c % 64)) & 1u; }
 };
 
-/// Every process's SiteFits on every process, in site order (an
-/// MPI_Allgatherv of 1 + classes / 64 words an open site on the LAMMPS
+/// Every process's SiteFits on every process, in key order (an
+/// MPI_Allgatherv of 4 + classes / 64 words an open site on the LAMMPS
 /// engine at P > 1). One process: unchanged.
-inline void share_site_fits(ParticleEngine& engine, const BirthView& view, size_t classes, std::vector<SiteFits>& fits) {
+inline void share_site_fits(ParticleEngine& engine, const BirthView& view, size_t classes,
+                            std::vector<SiteFits>& fits) {
   if (view.complete()) return;
-  const size_t width = 1 + (classes + 63) / 64;
+  const size_t width = 4 + (classes + 63) / 64;
   std::vector<uint64_t> words;
   words.reserve(width * fits.size());
   for (const SiteFits& f : fits) {
-    words.push_back(f.site);
+    append_words({f.key, f.position}, words);
     words.insert(words.end(), f.bits.begin(), f.bits.end());
   }
   engine.gather_over_processes(words);
   fits.clear();
-  for (size_t w = 0; w + width <= words.size(); w += width)
-    fits.push_back({words[w], std::vector<uint64_t>(words.begin() + static_cast<long>(w) + 1, words.begin() + static_cast<long>(w + width))});
-  std::sort(fits.begin(), fits.end(), [](const SiteFits& a, const SiteFits& b) { return a.site < b.site; });
+  for (size_t w = 0; w + width <= words.size(); w += width) {
+    const uint64_t* f = &words[w];
+    fits.push_back({f[0], Vec3(double_of(f[1]), double_of(f[2]), double_of(f[3])),
+                    std::vector<uint64_t>(f + 4, f + width)});
+  }
+  std::sort(fits.begin(), fits.end(), [](const SiteFits& a, const SiteFits& b) { return a.key < b.key; });
 }
 
 }  // namespace pfill

@@ -31,17 +31,20 @@ int FillPasses::birth_wave_of_sizes() {
   std::vector<size_t> places;
   for (const SiteFits& f : open) {
     if (capped && engine_.size() + wave.size() >= result_.max_parts) break;
-    const Vec3& at = held_.sites[f.site].position;
+    const Vec3& at = f.position;
     for (size_t c : sizes_->candidates()) {
       if (!f.fits(c)) continue;
-      const double r = class_radius(f.site, c);
+      const double r = class_radius(f.key, c);
       // The wave's large newborns may reach each other across the sites' spacing.
       if (std::any_of(wave.begin(), wave.end(), [&](const Born& b) {
             return length(b.position - at) < plan_.birth_clearance * (r + b.radius);
           }))
         continue;
       sizes_->add(r);
-      if (view_.decides(at)) mine.push_back(newborn(at, r, f.site, next_id_ + wave.size())), places.push_back(wave.size());
+      if (view_.decides(at)) {
+        mine.push_back(newborn(at, r, f.key, next_id_ + wave.size()));
+        places.push_back(wave.size());
+      }
       wave.push_back({at, r});
       break;
     }
@@ -61,10 +64,10 @@ std::vector<SiteFits> FillPasses::size_fits() const {
   for (size_t k = 0; k < held_.sites.size(); ++k) {
     const Vec3& at = held_.sites[k].position;
     if (!view_.decides(at)) continue;
-    SiteFits f{k, std::vector<uint64_t>((classes + 63) / 64, 0)};
+    SiteFits f{held_.key(k), at, std::vector<uint64_t>((classes + 63) / 64, 0)};
     bool any = false;
     for (size_t c = 0; c < classes; ++c)
-      if (room.has_room(at, class_radius(k, c))) f.bits[c / 64] |= uint64_t{1} << (c % 64), any = true;
+      if (room.has_room(at, class_radius(f.key, c))) f.bits[c / 64] |= uint64_t{1} << (c % 64), any = true;
     if (any) open.push_back(std::move(f));
   }
   return open;

@@ -1,0 +1,161 @@
+// The plan, the field and the birth sites of a fill (FillRun, fill_run.hpp):
+// on the field, or where no process builds one (the LAMMPS engine) from
+// the mesh, each process choosing the sites of its own sub-domain or the
+// report's few sites from the candidates it holds; the rare large spheres'
+// scale and placement on the same (large_first.hpp).
+#include <algorithm>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "fill/fill_run.hpp"
+#include "fill/large_first.hpp"
+#include "fill/large_first_scale.hpp"
+#include "fill/mesh_sites.hpp"
+#include "fill/short_number.hpp"
+#include "fill/site_choice.hpp"
+#include "pfill/birth_sites.hpp"
+#include "pfill/sdf.hpp"
+
+namespace pfill {
+namespace {
+
+// Room sites (FillOptions::room_spacing) lie at least this many radii
+// inside: a newborn there starts clear of the wall as of every sphere.
+constexpr double kRoomSiteDepth = 1.2;
+// The large spheres' candidates (sites from the mesh) reach a little
+// shallower than the smallest scale large_first_scale tries needs.
+constexpr double kBelowLowestScale = 0.99;
+
+}  // namespace
+
+// With the wall from the mesh (the LAMMPS engine) no process builds the
+// field: each chooses the waves' sites of its own sub-domain from the
+// mesh's exact distances (site_choice.hpp), or the report's few sites
+// from candidates it holds (mesh_sites.hpp). A mesh of many parts
+// (add_sites_per_part labels the field's parts) and waves from a given
+// first site keep the field.
+bool FillRun::sites_from_mesh() const {
+  return o_.engine && o_.wall_from_mesh && !(plan_.waves && o_.birth) && diagnostics_.components <= 1;
+}
+
+SdfOptions FillRun::coarse_options() const {
+  SdfOptions coarse = plan_.field;
+  coarse.spacing *= 2;
+  return coarse;
+}
+
+// This process's sites (collective). An object too thin for any takes
+// the field's way after all: its one deepest point, or the error that no
+// sphere fits.
+void FillRun::choose_split_sites(const SdfOptions& coarse) {
+  if (plan_.waves ? split_wave_sites() : report_sites_from_mesh()) return;
+  field_ = build_signed_distance_field(*boundary_, coarse);
+  plan_sites();
+}
+
+bool FillRun::split_wave_sites() {
+  const SiteLattice waves(mesh_.bounds(), o_.site_spacing * plan_.mean_rest_distance(o_),
+                          o_.site_min_depth * plan_.mean_radius);
+  std::optional<SiteLattice> rooms;
+  if (o_.room_spacing > 0 && !plan_.sizes)
+    rooms.emplace(mesh_.bounds(), o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
+  held_ = split_sites(*boundary_, waves, rooms, *engine_, engine_->birth_view(0, false));
+  return held_.total_sites > 0;
+}
+
+// The report's few sites (on every process) from candidates each holds.
+bool FillRun::report_sites_from_mesh() {
+  const HeldCandidates held = mesh_candidates(*boundary_, mesh_.bounds(), coarse_options().spacing,
+                                              plan_.mean_radius, engine_->birth_view(0, false));
+  sites_ = choose_birth_sites(held, report_site_count(o_), plan_.mean_radius, o_.site_depth,
+                              *engine_->process_group());
+  if (sites_.empty()) return false;
+  put_given_birth(sites_, plan_, *boundary_, o_);
+  held_ = replicated_sites(sites_, {});
+  return true;
+}
+
+// The birth sites on the field (and the room sites of waves).
+void FillRun::plan_sites() {
+  sites_ = plan_birth_sites(plan_, field_, *boundary_, o_);
+  if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site
+    const PartSites parts = add_sites_per_part(field_, plan_.radius, sites_);
+    result_.parts = parts.parts;
+    result_.parts_too_small = parts.too_small;
+    if (parts.too_small > 0)
+      result_.warnings.push_back(std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
+                                 " closed parts are too small for a sphere of radius " +
+                                 short_number(plan_.radius) + " and stay empty");
+  }
+  // (Unequal spheres: the waves' sites alone.)
+  std::vector<BirthSite> room_sites;
+  if (plan_.waves && o_.room_spacing > 0 && !plan_.sizes)
+    room_sites = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
+  held_ = replicated_sites(sites_, std::move(room_sites));
+}
+
+// Unequal spheres sized by a count whose rare large ones do not all fit
+// at the count rule's radii: every radius shrinks until they do (large_first_scale.hpp),
+// the plan and sites again at that scale, on the field already built
+// (its spacing a little coarser against the new radii, which the final
+// exact check makes good; its band and margin reach past the largest).
+void FillRun::rescale_for_large_first() {
+  if (!plan_.sizes || o_.count == 0) return;  // radii in mesh units (no count) are the user's: kept
+  const double scale = large_first_scale(large_placer(), plan_, held_.total_sites, o_.seed);
+  if (scale != 1) replan_at(scale);
+}
+
+// The same with the sites from the mesh: the large spheres' candidates
+// held per process, reaching as shallow as the smallest scale tried
+// needs (the scale search and the placement share them).
+void FillRun::rescale_split() {
+  if (!plan_.sizes) return;
+  if (!field_.values.empty()) return rescale_for_large_first();  // (an object too thin for the lattice's sites)
+  const std::vector<double> radii = front_loaded_radii(plan_, held_.total_sites, o_.seed);
+  if (radii.empty() || o_.count == 0) return;  // (no count: the placement's own candidates)
+  const double lowest = kBelowLowestScale * lowest_large_first_scale();
+  candidates_ = held_candidates(*std::min_element(radii.begin(), radii.end()) * lowest,
+                                large_first_settings(lowest * plan_.radius));
+  const double scale = large_first_scale(large_placer(), plan_, held_.total_sites, o_.seed);
+  if (scale != 1) replan_at(scale);
+}
+
+// The plan at `scale` on the field already built; the sites again, and
+// the engine (its radius was the old plan's) where it was built.
+void FillRun::replan_at(double scale) {
+  const SdfOptions field = plan_.field;
+  plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_, scale);
+  plan_.field = field;
+  result_.radius = plan_.radius;
+  if (!engine_) return plan_sites();
+  engine_.reset();
+  make_engine();
+  if (field_.values.empty())
+    choose_split_sites(coarse_options());
+  else
+    plan_sites();
+}
+
+// This process's candidates for spheres of `smallest` radius and up:
+// the coarse field's lattice with the mesh's depths, in its sub-domain.
+HeldCandidates FillRun::held_candidates(double smallest, const LargeFirstSettings& s) {
+  return mesh_candidates(*boundary_, mesh_.bounds(), coarse_options().spacing, smallest + s.wall_gap,
+                         engine_->birth_view(0, false));
+}
+
+// The rare large spheres' placement: on the field, or (sites from the
+// mesh, no field) on the candidates each process holds, made at the
+// first placement when the scale search did not make them.
+LargePlacer FillRun::large_placer() {
+  if (!field_.values.empty())
+    return [this](const std::vector<double>& radii, const LargeFirstSettings& s) {
+      return place_large_first(field_, radii, s);
+    };
+  return [this](const std::vector<double>& radii, const LargeFirstSettings& s) {
+    if (!candidates_) candidates_ = held_candidates(*std::min_element(radii.begin(), radii.end()), s);
+    const std::shared_ptr<ProcessGroup> group = engine_->process_group();
+    return place_large_first(*candidates_, radii, s, *group);
+  };
+}
+}  // namespace pfill
