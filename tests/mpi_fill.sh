@@ -57,18 +57,24 @@ run "$pfill" fill --builtin sphere -n 300 --sites 0 --seed 1 --engine lammps -q 
 check_report "waves" "$tmp/w.json" 240 345
 # The waves' sites are chosen per rank, each rank those of its own
 # sub-domain (src/fill/site_choice.hpp): the report lists the same sites at
-# any rank count.
+# any rank count; a given first site (--birth) takes the deepest's place
+# there, as on the field, and no rank builds a field.
 if [ "$np" -gt 1 ]; then
   for n in 1 "$np"; do
     "$mpirun" --oversubscribe -np "$n" "$pfill" fill --builtin sphere -n 300 --sites 0 --site-spacing 2 --seed 1 \
-      --engine lammps -q -o "$tmp/sites$n.csv" --report "$tmp/sites$n.json" > "$tmp/stdout" 2> "$tmp/stderr" ||
-      { cat "$tmp/stderr"; exit 1; }
+      --birth 0.3,0.1,0 --engine lammps -q -o "$tmp/sites$n.csv" --report "$tmp/sites$n.json" \
+      > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
   done
   python3 - "$tmp/sites$np.json" "$tmp/sites1.json" <<'PY'
 import json, sys
-many, one = (json.load(open(p))["sites"] for p in sys.argv[1:3])
+reports = [json.load(open(p)) for p in sys.argv[1:3]]
+many, one = (r["sites"] for r in reports)
 assert len(one) > 10 and many == one, f"the sites differ: {len(many)} at several ranks, {len(one)} at one"
-print("waves: the same", len(one), "sites at one rank and at several")
+assert all(r["field"]["bytes"] == 0 for r in reports), "waves from a given site: a distance field was built"
+given = [s for s in one if max(abs(a - b) for a, b in zip(s["position"], (0.3, 0.1, 0))) < 1e-9]
+assert len(given) == 1, "the given first site is not among the sites"
+assert all(sum(a * a for a in s["position"]) > 0.05 ** 2 for s in one), "the ball's deepest site (its centre) was kept"
+print("waves: the same", len(one), "sites at one rank and at several, the given one among them")
 PY
   # Unequal spheres' sites, and the rare large ones placed first (4 radii
   # and more, src/fill/large_first.hpp), come from the mesh too: no rank

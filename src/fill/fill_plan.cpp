@@ -146,16 +146,19 @@ std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& 
   return sites;
 }
 
-void put_given_birth(std::vector<BirthSite>& sites, const FillPlan& plan, const Boundary& boundary,
-                     const FillOptions& o) {
-  if (!o.birth || sites.empty()) return;
-  const Vec3 p = *o.birth;
+BirthSite given_birth_site(const FillPlan& plan, const Boundary& boundary, const FillOptions& o) {
+  const Vec3 p = o.birth.value_or(Vec3());
   if (!boundary.inside(p)) throw Error("birth is outside the mesh; give a point inside it or leave it out");
   const double depth = -boundary.signed_distance(p);
   if (depth < plan.radius)
     throw Error("birth is only " + short_number(depth) + " from the surface, less than the radius " +
                 short_number(plan.radius) + "; move it deeper inside");
-  sites[0] = {p, depth};
+  return {p, depth};
+}
+
+void put_given_birth(std::vector<BirthSite>& sites, const FillPlan& plan, const Boundary& boundary,
+                     const FillOptions& o) {
+  if (o.birth && !sites.empty()) sites[0] = given_birth_site(plan, boundary, o);
 }
 
 EngineParams plan_engine_params(const FillPlan& plan, const FillOptions& o) {

@@ -82,8 +82,11 @@ std::vector<BirthSite> plan_birth_sites(const FillPlan& plan, const ScalarGrid& 
 /// How many sites the report's schedule asks (FillOptions::sites; 2 when left to pfill).
 inline int report_site_count(const FillOptions& o) { return o.sites < 0 ? 2 : std::max(1, o.sites); }
 
-/// FillOptions::birth_point in place of the first of `sites`; throws when
-/// it is outside the mesh or less than a radius inside.
+/// FillOptions::birth as a site at its exact depth; throws when it is
+/// outside the mesh or less than a radius inside.
+BirthSite given_birth_site(const FillPlan& plan, const Boundary& boundary, const FillOptions& o);
+
+/// FillOptions::birth in place of the first of `sites` (given_birth_site).
 void put_given_birth(std::vector<BirthSite>& sites, const FillPlan& plan, const Boundary& boundary,
                      const FillOptions& o);
 

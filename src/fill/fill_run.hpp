@@ -51,9 +51,9 @@ class FillRun {
   // With the wall from the mesh (the LAMMPS engine) no process builds the
   // field: each chooses the waves' sites of its own sub-domain from the
   // mesh's exact distances (site_choice.hpp), or the report's few sites
-  // from candidates it holds (mesh_sites.hpp). A mesh of many parts
-  // (add_sites_per_part labels the field's parts) and waves from a given
-  // first site keep the field.
+  // from candidates it holds (mesh_sites.hpp); a given first site in
+  // place of the deepest. A mesh of many parts (add_sites_per_part labels
+  // the field's parts) keeps the field.
   bool sites_from_mesh() const;
 
   // The fill's own field beside the engine's wall from the mesh: twice as coarse.

@@ -36,7 +36,7 @@ constexpr double kBelowLowestScale = 0.99;
 // (add_sites_per_part labels the field's parts) and waves from a given
 // first site keep the field.
 bool FillRun::sites_from_mesh() const {
-  return o_.engine && o_.wall_from_mesh && !(plan_.waves && o_.birth) && diagnostics_.components <= 1;
+  return o_.engine && o_.wall_from_mesh && diagnostics_.components <= 1;
 }
 
 SdfOptions FillRun::coarse_options() const {
@@ -60,8 +60,11 @@ bool FillRun::split_wave_sites() {
   std::optional<SiteLattice> rooms;
   if (o_.room_spacing > 0 && !plan_.sizes)
     rooms.emplace(mesh_.bounds(), o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
-  held_ = split_sites(*boundary_, waves, rooms, *engine_, engine_->birth_view(0, false));
-  return held_.total_sites > 0;
+  const BirthView view = engine_->birth_view(0, false);
+  held_ = split_sites(*boundary_, waves, rooms, *engine_, view);
+  if (held_.total_sites == 0) return false;
+  if (o_.birth) put_given_site(held_, given_birth_site(plan_, *boundary_, o_), *engine_, view);
+  return true;
 }
 
 // The report's few sites (on every process) from candidates each holds.

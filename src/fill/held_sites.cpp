@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <numeric>
 
+#include "fill/pick_over_processes.hpp"
 #include "fill/word_bits.hpp"
 
 namespace pfill {
@@ -109,6 +110,25 @@ void hand_over_sites(HeldSites& held, ParticleEngine& engine, const BirthView& v
   if (waves) sort_by_key(held.sites, held.keys);
   if (rooms) sort_by_key(held.room_sites, held.room_keys);
   held.regions = view.regions;
+}
+
+void put_given_site(HeldSites& held, const BirthSite& given, ParticleEngine& engine, const BirthView& view) {
+  Pick deepest;  // (by the depth in `gap`'s place, the key as the order)
+  for (size_t k = 0; k < held.sites.size(); ++k) {
+    const Pick p{held.sites[k].position, held.sites[k].depth, held.sites[k].depth, held.keys[k], 1};
+    if (beats(p, deepest, true)) deepest = p;
+  }
+  deepest = best_over(*engine.process_group(), deepest, true);
+  if (!deepest.found) return;
+  const auto held_at = std::lower_bound(held.keys.begin(), held.keys.end(), deepest.order);
+  if (held_at != held.keys.end() && *held_at == deepest.order) {
+    held.sites.erase(held.sites.begin() + (held_at - held.keys.begin()));
+    held.keys.erase(held_at);
+  }
+  if (!view.decides(given.position)) return;
+  const auto to = std::lower_bound(held.keys.begin(), held.keys.end(), deepest.order);
+  held.sites.insert(held.sites.begin() + (to - held.keys.begin()), given);
+  held.keys.insert(to, deepest.order);
 }
 
 std::vector<BirthSite> all_sites(const HeldSites& held, ParticleEngine& engine) {

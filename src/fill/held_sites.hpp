@@ -52,6 +52,12 @@ HeldSites split_sites(const Boundary& boundary, const SiteLattice& waves, const 
 /// processes that own them (collective; one gather of the leavers).
 void hand_over_sites(HeldSites& held, ParticleEngine& engine, const BirthView& view);
 
+/// Split: `given` in place of the deepest of every process's sites (ties:
+/// the lower key; the field's way puts a given first site in place of the
+/// deepest), keeping its key, held by the process `view` says decides it
+/// (collective).
+void put_given_site(HeldSites& held, const BirthSite& given, ParticleEngine& engine, const BirthView& view);
+
 /// Every process's sites (not the room sites), in key order, on every
 /// process (collective: split sites are gathered); for the report's list.
 /// Replicated: `held.sites`.

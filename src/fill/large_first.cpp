@@ -160,7 +160,7 @@ std::vector<Vec3> spread_starts(const std::vector<LargeCandidate>& c, double fir
   std::vector<Pick> all = from_bytes<Pick>(group.all_gather(bytes));
   std::sort(all.begin(), all.end(), by_hash);
   all.resize(std::min(all.size(), kStarts));
-  const Pick first = best_over(group, {shallowest}, false);
+  const Pick first = best_over(group, shallowest, false);
   std::vector<Vec3> starts;
   for (const Pick& p : all) starts.push_back(p.point);
   if (first.found) starts.push_back(first.point);
@@ -180,7 +180,7 @@ LargePlacement place_large_first(const HeldCandidates& held, const std::vector<d
   if (starts.empty())  // the first fits nowhere: try without it
     return radii.size() < 2 ? LargePlacement{} : place_large_first(held, without_first(radii), s, group);
   return best_of(c, starts, radii, s,
-                 [&group](const Pick& mine, bool farthest) { return best_over(group, {mine}, farthest); });
+                 [&group](const Pick& mine, bool farthest) { return best_over(group, mine, farthest); });
 }
 
 }  // namespace pfill

@@ -15,7 +15,7 @@ std::vector<BirthSite> choose_birth_sites(const HeldCandidates& held, int count,
     const Pick p{c.point, c.depth, c.depth, c.order, 1};
     if (c.depth >= min_depth && beats(p, deepest, true)) deepest = p;
   }
-  deepest = best_over(group, {deepest}, true);
+  deepest = best_over(group, deepest, true);
   if (!deepest.found) return sites;
   sites.push_back({deepest.point, deepest.depth});
 
@@ -36,7 +36,7 @@ std::vector<BirthSite> choose_birth_sites(const HeldCandidates& held, int count,
                       [&](const BirthSite& s) { return length(s.position - p.point) >= s.depth + p.depth; }))
         mine = p;
     }
-    const Pick best = best_over(group, {mine}, true);
+    const Pick best = best_over(group, mine, true);
     if (!best.found) break;  // no room for another site
     sites.push_back({best.point, best.depth});
     for (size_t k = 0; k < core.size(); ++k) nearest[k] = std::min(nearest[k], length(core[k].point - best.point));

@@ -6,6 +6,7 @@
 // mesh_sites.hpp).
 #pragma once
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include "pfill/engine/process_group.hpp"
@@ -27,10 +28,10 @@ inline bool beats(const Pick& a, const Pick& b, bool farthest) {
   return va < vb || (va == vb && a.order < b.order);
 }
 
-/// Every process's picks; the best of them, on every process (collective).
-inline Pick best_over(ProcessGroup& group, const std::vector<Pick>& mine, bool farthest) {
-  Bytes bytes;
-  to_bytes(mine, bytes);
+/// Every process's pick; the best of them, on every process (collective).
+inline Pick best_over(ProcessGroup& group, const Pick& mine, bool farthest) {
+  Bytes bytes(sizeof(Pick));
+  std::memcpy(bytes.data(), &mine, sizeof(Pick));
   Pick best;
   for (const Pick& p : from_bytes<Pick>(group.all_gather(bytes)))
     if (beats(p, best, farthest)) best = p;
