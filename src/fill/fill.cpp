@@ -85,7 +85,6 @@ FillResult FillRun::run() {
   return std::move(result_);
 }
 
-// The fractions asked won over the count: what the fill did, and what came of it.
 std::string FillRun::held_to_large_note(const std::string& short_front) const {
   std::string what = plan_.size_scale < 1 ? "every radius was scaled by " + short_number(plan_.size_scale) +
                                                 " for the largest spheres to fit"
@@ -96,9 +95,6 @@ std::string FillRun::held_to_large_note(const std::string& short_front) const {
          short_number(result_.metrics.packing_fraction);
 }
 
-// With a profiling device (PFILL_PROFILE=1): the device's time since the
-// last call goes to the pass just ended (the first call only starts the
-// count, past the field upload and the program builds).
 void FillRun::note_device_times() {
   if (!device_ || !device_->profiling()) return;
   const DeviceTimes now = device_->times();
@@ -115,7 +111,6 @@ void FillRun::note_device_times() {
   device_times_noted_ = true;
 }
 
-// ---- plan, field, sites, engine ----
 void FillRun::prepare() {
   check_fill_options(o_);  // a bad setting is the first thing to say
   if (!(diagnostics_.volume() > 0))
@@ -181,7 +176,6 @@ void FillRun::make_engine() {
     engine_->share_field(field_);  // on PoCL read in place (field_ outlives engine_)
 }
 
-// ---- finish: overlaps resolved by moving spheres; holes filled (finish.cpp) ----
 void FillRun::finish(uint64_t next_id) {
   const Stopwatch t;
   reporter_.enter(FillPhase::Finish);
@@ -260,7 +254,6 @@ FinishSettings FillRun::finish_settings() const {
   return s;
 }
 
-// ---- verify: exact containment, holes, metrics (fill_verify.cpp) ----
 void FillRun::verify() {
   const Stopwatch t;
   reporter_.enter(FillPhase::Verify);
@@ -274,7 +267,6 @@ void FillRun::verify() {
   result_.peak_memory = peak_resident_bytes();
 }
 
-/// The caller's cancel hook (FillOptions::cancelled).
 void FillRun::throw_if_cancelled() const {
   if (o_.cancelled && o_.cancelled()) throw Cancelled();
 }

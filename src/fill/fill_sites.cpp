@@ -29,12 +29,6 @@ constexpr double kBelowLowestScale = 0.99;
 
 }  // namespace
 
-// With the wall from the mesh (the LAMMPS engine) no process builds the
-// field: each chooses the waves' sites of its own sub-domain from the
-// mesh's exact distances (site_choice.hpp), or the report's few sites
-// from candidates it holds (mesh_sites.hpp). A mesh of many parts
-// (add_sites_per_part labels the field's parts) and waves from a given
-// first site keep the field.
 bool FillRun::sites_from_mesh() const {
   return o_.engine && o_.wall_from_mesh && diagnostics_.components <= 1;
 }
@@ -45,9 +39,6 @@ SdfOptions FillRun::coarse_options() const {
   return coarse;
 }
 
-// This process's sites (collective). An object too thin for any takes
-// the field's way after all: its one deepest point, or the error that no
-// sphere fits.
 void FillRun::choose_split_sites(const SdfOptions& coarse) {
   if (plan_.waves ? split_wave_sites() : report_sites_from_mesh()) return;
   field_ = build_signed_distance_field(*boundary_, coarse);
@@ -67,7 +58,6 @@ bool FillRun::split_wave_sites() {
   return true;
 }
 
-// The report's few sites (on every process) from candidates each holds.
 bool FillRun::report_sites_from_mesh() {
   const HeldCandidates held = mesh_candidates(*boundary_, mesh_.bounds(), coarse_options().spacing,
                                               plan_.mean_radius, engine_->birth_view(0, false));
@@ -79,7 +69,6 @@ bool FillRun::report_sites_from_mesh() {
   return true;
 }
 
-// The birth sites on the field (and the room sites of waves).
 void FillRun::plan_sites() {
   sites_ = plan_birth_sites(plan_, field_, *boundary_, o_);
   if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site
@@ -98,20 +87,12 @@ void FillRun::plan_sites() {
   held_ = replicated_sites(sites_, std::move(room_sites));
 }
 
-// Unequal spheres sized by a count whose rare large ones do not all fit
-// at the count rule's radii: every radius shrinks until they do (large_first_scale.hpp),
-// the plan and sites again at that scale, on the field already built
-// (its spacing a little coarser against the new radii, which the final
-// exact check makes good; its band and margin reach past the largest).
 void FillRun::rescale_for_large_first() {
   if (!plan_.sizes || o_.count == 0) return;  // radii in mesh units (no count) are the user's: kept
   const double scale = large_first_scale(large_placer(), plan_, held_.total_sites, o_.seed);
   if (scale != 1) replan_at(scale);
 }
 
-// The same with the sites from the mesh: the large spheres' candidates
-// held per process, reaching as shallow as the smallest scale tried
-// needs (the scale search and the placement share them).
 void FillRun::rescale_split() {
   if (!plan_.sizes) return;
   if (!field_.values.empty()) return rescale_for_large_first();  // (an object too thin for the lattice's sites)
@@ -124,8 +105,6 @@ void FillRun::rescale_split() {
   if (scale != 1) replan_at(scale);
 }
 
-// The plan at `scale` on the field already built; the sites again, and
-// the engine (its radius was the old plan's) where it was built.
 void FillRun::replan_at(double scale) {
   const SdfOptions field = plan_.field;
   plan_ = plan_fill(mesh_.bounds(), diagnostics_, o_, scale);
@@ -140,16 +119,11 @@ void FillRun::replan_at(double scale) {
     plan_sites();
 }
 
-// This process's candidates for spheres of `smallest` radius and up:
-// the coarse field's lattice with the mesh's depths, in its sub-domain.
 HeldCandidates FillRun::held_candidates(double smallest, const LargeFirstSettings& s) {
   return mesh_candidates(*boundary_, mesh_.bounds(), coarse_options().spacing, smallest + s.wall_gap,
                          engine_->birth_view(0, false));
 }
 
-// The rare large spheres' placement: on the field, or (sites from the
-// mesh, no field) on the candidates each process holds, made at the
-// first placement when the scale search did not make them.
 LargePlacer FillRun::large_placer() {
   if (!field_.values.empty())
     return [this](const std::vector<double>& radii, const LargeFirstSettings& s) {
@@ -161,4 +135,5 @@ LargePlacer FillRun::large_placer() {
     return place_large_first(*candidates_, radii, s, *group);
   };
 }
+
 }  // namespace pfill
