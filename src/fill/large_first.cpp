@@ -126,7 +126,6 @@ HeldCandidates mesh_candidates(const Boundary& boundary, const Box3& box, double
     asked.hi = min(asked.hi, mine.hi + margin);
   }
   HeldCandidates held;
-  held.min_depth = min_depth;
   for (const std::vector<DeepPoint>& block : deep_points_in(boundary, lattice, asked))
     for (const DeepPoint& d : block) {
       const Vec3 p = lattice.point(d.lattice);

@@ -58,8 +58,7 @@ struct LargeCandidate {
 /// `box`, at least `min_depth` inside by the mesh's exact distance, those
 /// `view` decides (a complete view: all), in lattice order.
 struct HeldCandidates {
-  std::vector<LargeCandidate> points;
-  double min_depth = 0;  ///< radii needing less see no shallower point
+  std::vector<LargeCandidate> points;  ///< (radii needing less than min_depth see no shallower point)
 };
 HeldCandidates mesh_candidates(const Boundary& boundary, const Box3& box, double step, double min_depth,
                                const BirthView& view);
