@@ -116,15 +116,8 @@ LargePlacement place_large_first(const ScalarGrid& field, const std::vector<doub
 HeldCandidates mesh_candidates(const Boundary& boundary, const Box3& box, double step, double min_depth,
                                const BirthView& view) {
   const SiteLattice lattice(box, 3 * step, min_depth);  // (its candidates a third of the spacing apart)
-  Box3 asked;
-  asked.add(lattice.origin);
-  asked.add(lattice.point({lattice.points[0] - 1, lattice.points[1] - 1, lattice.points[2] - 1}));
-  if (!view.complete()) {  // this region and a step around it (owning_region settles the border)
-    const Box3& mine = view.regions[static_cast<size_t>(view.region)];
-    const Vec3 margin(step, step, step);
-    asked.lo = max(asked.lo, mine.lo - margin);
-    asked.hi = min(asked.hi, mine.hi + margin);
-  }
+  // This region and a step around it (owning_region settles the border).
+  const Box3 asked = lattice.extent_near(view.regions, view.region, step);
   HeldCandidates held;
   for (const std::vector<DeepPoint>& block : deep_points_in(boundary, lattice, asked))
     for (const DeepPoint& d : block) {

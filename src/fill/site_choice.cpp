@@ -22,6 +22,18 @@ Vec3 SiteLattice::point(uint64_t index) const {
                 static_cast<int64_t>(index / (nx * ny))});
 }
 
+Box3 SiteLattice::extent_near(const std::vector<Box3>& regions, int region, double margin) const {
+  Box3 box;
+  box.add(origin);
+  box.add(point({points[0] - 1, points[1] - 1, points[2] - 1}));
+  if (regions.empty()) return box;
+  const Box3& mine = regions[static_cast<size_t>(region)];
+  const Vec3 m(margin, margin, margin);
+  box.lo = max(box.lo, mine.lo - m);
+  box.hi = min(box.hi, mine.hi + m);
+  return box;
+}
+
 namespace {
 
 constexpr int kBlock = 6;  // lattice points along a block's side: depths are asked block by block
@@ -87,15 +99,7 @@ SiteChoice::SiteChoice(const Boundary& boundary, const SiteLattice& lattice, con
     : lattice_(lattice) {
   // The lattice points within the spacing of this region (all of them for one process).
   const bool one = regions.empty();
-  Box3 grown;
-  grown.add(lattice.origin);
-  grown.add(lattice.point({lattice.points[0] - 1, lattice.points[1] - 1, lattice.points[2] - 1}));
-  if (!one) {
-    const Box3& mine = regions[static_cast<size_t>(region)];
-    const Vec3 s(lattice.spacing, lattice.spacing, lattice.spacing);
-    grown.lo = max(grown.lo, mine.lo - s);
-    grown.hi = min(grown.hi, mine.hi + s);
-  }
+  const Box3 grown = lattice.extent_near(regions, region, lattice.spacing);
   for (int a = 0; a < 3; ++a)
     grid_dims_[a] = std::max<int64_t>(1, static_cast<int64_t>((grown.hi[a] - grown.lo[a]) / lattice.spacing) + 1);
   grid_origin_ = grown.lo;

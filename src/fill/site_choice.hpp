@@ -54,6 +54,9 @@ struct SiteLattice {
     return origin + Vec3(static_cast<double>(q[0]), static_cast<double>(q[1]), static_cast<double>(q[2])) * step;
   }
   Vec3 point(uint64_t index) const;
+  /// The lattice's extent, within `margin` of regions[region] (regions
+  /// empty: one process, the whole extent).
+  Box3 extent_near(const std::vector<Box3>& regions, int region, double margin) const;
 };
 
 /// A lattice point at least the lattice's min_depth inside, by the mesh's exact depth.
