@@ -4,6 +4,7 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "pfill/birth_sites.hpp"
@@ -125,6 +126,87 @@ TEST_CASE("the grid room test answers as the scan of every centre does") {
     CHECK(none > 0);
   }
   CHECK(RoomGrid({}, 0.1).has_room({0, 0, 0}));
+}
+
+TEST_CASE("a pocket's room: Kepler's bound of the site's inscribed ball, the grid as the scan") {
+  const double r = 0.1;
+  CHECK(pocket_capacity({{0, 0, 0}, 2.24 * r}, r) == 8);  // 0.7405 * 2.24^3 = 8.3
+  CHECK(pocket_capacity({{0, 0, 0}, 0.5 * r}, r) == 1);
+  CHECK(pocket_capacity({{0, 0, 0}, kPocketDepth * r * 1.01}, r) == 0);  // too deep to test
+  // Eight centres 0.19 from the middle of a pocket 2.24 r deep: past
+  // depth - r / 2 (0.174), not counted; then 0.16 from it, counted.
+  const BirthSite pocket{{0, 0, 0}, 2.24 * r};
+  std::vector<Vec3> centres;
+  for (int k = 0; k < 8; ++k)
+    centres.push_back(Vec3(k & 1 ? 1 : -1, k & 2 ? 1 : -1, k & 4 ? 1 : -1) * (0.19 / std::sqrt(3.0)));
+  CHECK_FALSE(pocket_full(centres, pocket, r));
+  for (Vec3& c : centres) c = c * (0.16 / 0.19);
+  CHECK(pocket_full(centres, pocket, r));
+  centres.pop_back();  // seven: room for one more
+  CHECK_FALSE(pocket_full(centres, pocket, r));
+  // The grid answers as the scan, at random.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Vec3> many;
+  for (int k = 0; k < 3000; ++k) many.push_back({u(rng), u(rng), u(rng)});
+  const RoomGrid grid(many, 0.11);
+  int full = 0, open = 0;
+  for (int k = 0; k < 2000; ++k) {
+    const BirthSite site{{1.2 * u(rng), 1.2 * u(rng), 1.2 * u(rng)}, 0.02 + 0.4 * (u(rng) + 1) / 2};
+    const bool expected = pocket_full(many, site, r);
+    CHECK(grid.pocket_full(site, r) == expected);
+    (expected ? full : open) += 1;
+  }
+  CHECK(full > 0);
+  CHECK(open > 0);
+}
+
+// A ball of latitude-longitude quads (two triangles each) round `c`.
+Mesh uv_ball(const Vec3& c, double radius, int around = 24, int rings = 12) {
+  Mesh m;
+  const double pi = std::acos(-1.0);
+  m.positions.push_back(c + Vec3(0, 0, radius));
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double t = pi * i / rings, p = 2 * pi * j / around;
+      m.positions.push_back(c + Vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t)) * radius);
+    }
+  m.positions.push_back(c + Vec3(0, 0, -radius));
+  const auto at = [&](int i, int j) { return static_cast<uint32_t>(1 + (i - 1) * around + j % around); };
+  const auto last = static_cast<uint32_t>(m.positions.size() - 1);
+  for (int j = 0; j < around; ++j) {
+    m.triangles.push_back({0, at(1, j), at(1, j + 1)});
+    m.triangles.push_back({last, at(rings - 1, j + 1), at(rings - 1, j)});
+    for (int i = 1; i + 1 < rings; ++i) {
+      m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return m;
+}
+
+TEST_CASE("a closed part a few spheres wide takes no more than it holds: pass 1 ends by itself") {
+  // A ball of 2.24 radii beside a large one: before the pocket test its
+  // site took newborns without end (thousands into room for four; seeds
+  // 1 and 2), and pass 1 ran for minutes.
+  const double r = 0.165;
+  Mesh mesh = uv_ball({0, 0, 0}, 2.0);
+  const Mesh small = uv_ball({2.8, 0, 0}, 0.37);
+  const auto base = static_cast<uint32_t>(mesh.positions.size());
+  mesh.positions.insert(mesh.positions.end(), small.positions.begin(), small.positions.end());
+  for (Triangle t : small.triangles) mesh.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  FillOptions o = wave_fill(0, 1);
+  o.radius = r;
+  const FillResult f = fill(mesh, o);
+  INFO("particles " << f.particles.size() << " of ~" << f.expected << ", pass 1 steps " << f.passes.at(0).steps);
+  CHECK(f.stop_signal == "blocked");
+  CHECK(f.passes.at(0).steps < 40000);
+  CHECK(f.metrics.contained_share == 1.0);
+  size_t in_small = 0;
+  for (const Vec3& p : f.particles.positions) in_small += p.x > 2.2 ? 1 : 0;
+  CHECK(in_small >= 1);
+  CHECK(in_small <= 4);
+  CHECK(f.particles.size() * 10 >= f.expected * 9);
 }
 
 TEST_CASE("blocked sites with a share: full when a window's births fall to that share of the count") {

@@ -50,6 +50,23 @@ bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double cl
 bool site_has_room(const std::vector<Vec3>& centres, const std::vector<double>& radii, const Vec3& site,
                    double radius, double share);
 
+/// A site in a pocket too small for newborns to move on from (a small
+/// closed part of the mesh, a few spheres wide) takes them without end:
+/// those before sit against the wall round its empty middle, so the room
+/// test passes wave after wave (found 2026-12-07: a part of 2.2 radii
+/// took thousands into room for four, and pass 1 never ended). Its
+/// inscribed ball (radius: the site's depth) holds at most Kepler's
+/// 0.7405 (depth / r)^3 spheres of radius r, so a site with that many
+/// centres within depth - r / 2 of it is full. A bulk packing holds less
+/// than 0.9 of the bound there, so only pockets reach it; sites deeper
+/// than kPocketDepth radii are not tested (their pockets hold dozens and
+/// the packing in them moves on).
+constexpr double kPocketDepth = 4;
+/// The bound for a site of `radius`'s spheres; 0 where the site is too deep to test.
+size_t pocket_capacity(const BirthSite& site, double radius);
+/// Whether `site`'s pocket is full (by `centres`; every centre visited).
+bool pocket_full(const std::vector<Vec3>& centres, const BirthSite& site, double radius);
+
 /// Sites spread over the whole interior, for births in waves: among field
 /// points at least `min_depth` deep (taken on a sub-lattice of the field,
 /// about `spacing` / 3 apart), the deepest, then again and again the
@@ -75,6 +92,8 @@ class RoomGrid {
   bool has_room(const Vec3& site) const;
   /// Unequal spheres (the second constructor): room for a newborn of `radius`.
   bool has_room(const Vec3& site, double radius) const;
+  /// pocket_full by the grid's centres (the cells within the pocket's reach).
+  bool pocket_full(const BirthSite& site, double radius) const;
 
  private:
   bool cell_of(const Vec3& p, std::array<int, 3>& c) const;

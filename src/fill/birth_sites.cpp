@@ -63,6 +63,24 @@ bool site_has_room(const std::vector<Vec3>& centres, const std::vector<double>& 
   return true;
 }
 
+size_t pocket_capacity(const BirthSite& site, double radius) {
+  if (!(radius > 0) || site.depth > kPocketDepth * radius) return 0;
+  const double q = site.depth / radius;
+  return static_cast<size_t>(std::max(1.0, std::floor(0.7405 * q * q * q)));
+}
+
+bool pocket_full(const std::vector<Vec3>& centres, const BirthSite& site, double radius) {
+  const size_t most = pocket_capacity(site, radius);
+  if (most == 0) return false;
+  const double reach = site.depth - 0.5 * radius, r2 = reach * reach;
+  size_t in = 0;
+  for (const Vec3& p : centres) {
+    const Vec3 d = p - site.position;
+    if (dot(d, d) < r2 && ++in >= most) return true;
+  }
+  return false;
+}
+
 bool site_has_room(const std::vector<Vec3>& centres, const Vec3& site, double clearance) {
   const double c2 = clearance * clearance;
   for (const Vec3& p : centres) {
@@ -253,6 +271,27 @@ bool RoomGrid::has_room(const Vec3& site, double radius) const {
         }
       }
   return true;
+}
+
+bool RoomGrid::pocket_full(const BirthSite& site, double radius) const {
+  const size_t most = pocket_capacity(site, radius);
+  if (most == 0 || start_.empty()) return false;
+  const double reach = site.depth - 0.5 * radius, r2 = reach * reach;
+  const Vec3 q = (site.position - origin_) / cell_;
+  const int cells = static_cast<int>(std::ceil(reach / cell_));
+  const int ci = static_cast<int>(std::floor(q.x)), cj = static_cast<int>(std::floor(q.y)),
+            ck = static_cast<int>(std::floor(q.z));
+  size_t in = 0;
+  for (int k = std::max(0, ck - cells); k <= std::min(dims_[2] - 1, ck + cells); ++k)
+    for (int j = std::max(0, cj - cells); j <= std::min(dims_[1] - 1, cj + cells); ++j)
+      for (int i = std::max(0, ci - cells); i <= std::min(dims_[0] - 1, ci + cells); ++i) {
+        const size_t c = cell_index({i, j, k});
+        for (uint32_t m = start_[c]; m < start_[c + 1]; ++m) {
+          const Vec3 d = sorted_[m] - site.position;
+          if (dot(d, d) < r2 && ++in >= most) return true;
+        }
+      }
+  return false;
 }
 
 PartSites add_sites_per_part(const ScalarGrid& sdf, double min_depth, std::vector<BirthSite>& sites) {

@@ -249,7 +249,9 @@ int FillPasses::birth_at_sites() {
   const std::vector<BirthSite>& sites = held_.sites;  // (the report's few sites: on every process)
   std::vector<int> verdicts(sites.size(), 0);
   if (!sizes_) {
-    mark_sites_with_room(view_, sites, [&](const Vec3& p) { return site_has_room(snapshot_, p, clearance); }, verdicts);
+    mark_sites_with_room(view_, sites, [&](const BirthSite& s) {
+      return site_has_room(snapshot_, s.position, clearance) && !pocket_full(snapshot_, s, plan_.radius);
+    }, verdicts);
     share_verdicts(engine_, view_, verdicts);
   }
   for (size_t k = 0; k < sites.size(); ++k) {
@@ -257,6 +259,7 @@ int FillPasses::birth_at_sites() {
     const BirthSite& site = sites[k];
     double radius = plan_.radius;
     if (sizes_) {
+      if (pocket_full(snapshot_, site, plan_.mean_radius)) continue;
       radius = newborn_radius([&](double r) {
         return site_has_room(snapshot_, snapshot_radii_, site.position, r, plan_.birth_clearance) &&
                newborns_clear(site.position, r, clearance);
@@ -292,12 +295,14 @@ int FillPasses::birth_wave() {
 /// open room sites (each in key order), each site's room tested here.
 void FillPasses::open_sites(bool rooms, std::vector<OpenSite>& open, std::vector<OpenSite>& room_open) const {
   const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
-  add_open_sites(view_, held_.sites, [&](size_t k) { return held_.key(k); }, [&](const Vec3& p) { return room.has_room(p); },
+  add_open_sites(view_, held_.sites, [&](size_t k) { return held_.key(k); },
+                 [&](const BirthSite& s) { return room.has_room(s.position) && !room.pocket_full(s, plan_.radius); },
                  open);
   if (!rooms) return;
   const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
   add_open_sites(view_, held_.room_sites, [&](size_t k) { return held_.room_key(k); },
-                 [&](const Vec3& p) { return clear.has_room(p); }, room_open);
+                 [&](const BirthSite& s) { return clear.has_room(s.position); },  // (until half: no pocket test)
+                 room_open);
 }
 
 /// The wave's newborns this process decides (wave_choice.hpp): its open

@@ -19,12 +19,12 @@
 namespace pfill {
 
 /// verdicts[first + k] = 1 where this process decides sites[k] and
-/// `has_room(position)`; the other entries stay as they are.
+/// `has_room(site)`; the other entries stay as they are.
 template <class HasRoom>
 void mark_sites_with_room(const BirthView& view, const std::vector<BirthSite>& sites, const HasRoom& has_room,
                           std::vector<int>& verdicts, size_t first = 0) {
   for (size_t k = 0; k < sites.size(); ++k)
-    if (view.decides(sites[k].position) && has_room(sites[k].position)) verdicts[first + k] = 1;
+    if (view.decides(sites[k].position) && has_room(sites[k])) verdicts[first + k] = 1;
 }
 
 /// Every process's verdicts on every process (each site has one deciding
@@ -61,12 +61,12 @@ inline std::vector<OpenSite> sites_of_words(const std::vector<uint64_t>& words) 
 }
 
 /// Appends to `open` the sites of `sites` this process decides that
-/// `has_room(position)`, each with key `key_of(k)`.
+/// `has_room(site)`, each with key `key_of(k)`.
 template <class KeyOf, class HasRoom>
 void add_open_sites(const BirthView& view, const std::vector<BirthSite>& sites, const KeyOf& key_of,
                     const HasRoom& has_room, std::vector<OpenSite>& open) {
   for (size_t k = 0; k < sites.size(); ++k)
-    if (view.decides(sites[k].position) && has_room(sites[k].position)) open.push_back({key_of(k), sites[k].position});
+    if (view.decides(sites[k].position) && has_room(sites[k])) open.push_back({key_of(k), sites[k].position});
 }
 
 /// Every process's open sites on every process, in key order (an

@@ -63,7 +63,7 @@ std::vector<SiteFits> FillPasses::size_fits() const {
   std::vector<SiteFits> open;
   for (size_t k = 0; k < held_.sites.size(); ++k) {
     const Vec3& at = held_.sites[k].position;
-    if (!view_.decides(at)) continue;
+    if (!view_.decides(at) || room.pocket_full(held_.sites[k], plan_.mean_radius)) continue;
     SiteFits f{held_.key(k), at, std::vector<uint64_t>((classes + 63) / 64, 0)};
     bool any = false;
     for (size_t c = 0; c < classes; ++c)
