@@ -4,6 +4,7 @@
 /// the particle radius that fits a given count.
 #pragma once
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -49,5 +50,9 @@ struct MeshDiagnostics {
 
 MeshDiagnostics diagnose(const Mesh& mesh);
 
+/// Each triangle's connected component (triangles joined through shared
+/// vertices, the count MeshDiagnostics::components gives), numbered from 0
+/// in the order of each component's first triangle.
+std::vector<uint32_t> triangle_components(const Mesh& mesh);
 
 }  // namespace pfill

@@ -52,8 +52,8 @@ class FillRun {
   // field: each chooses the waves' sites of its own sub-domain from the
   // mesh's exact distances (site_choice.hpp), or the report's few sites
   // from candidates it holds (mesh_sites.hpp); a given first site in
-  // place of the deepest. A mesh of many parts (add_sites_per_part labels
-  // the field's parts) keeps the field.
+  // place of the deepest; a site for each of the mesh's closed parts that
+  // has none (part_sites.hpp).
   bool sites_from_mesh() const;
 
   // The fill's own field beside the engine's wall from the mesh: twice as coarse.
@@ -72,6 +72,14 @@ class FillRun {
 
   // The birth sites on the field (and the room sites of waves).
   void plan_sites();
+
+  // Sites from the mesh: the sites (every process's, in part order) for
+  // the mesh's closed parts that none of `sites` lies in, each its deepest
+  // of `candidates` (collective).
+  std::vector<KeyedSite> sites_for_parts(const std::vector<BirthSite>& sites, const HeldCandidates& candidates);
+
+  // The parts' counts in the result, and the warning of those too small (once).
+  void note_parts(const PartSites& parts);
 
   // Unequal spheres sized by a count whose rare large ones do not all fit
   // at the count rule's radii: every radius shrinks until they do (large_first_scale.hpp),

@@ -11,7 +11,9 @@
 #include "fill/fill_run.hpp"
 #include "fill/large_first.hpp"
 #include "fill/large_first_scale.hpp"
+#include "fill/mesh_parts.hpp"
 #include "fill/mesh_sites.hpp"
+#include "fill/part_sites.hpp"
 #include "fill/short_number.hpp"
 #include "fill/site_choice.hpp"
 #include "pfill/birth_sites.hpp"
@@ -30,7 +32,7 @@ constexpr double kBelowLowestScale = 0.99;
 }  // namespace
 
 bool FillRun::sites_from_mesh() const {
-  return o_.engine && o_.wall_from_mesh && diagnostics_.components <= 1;
+  return o_.engine && o_.wall_from_mesh;
 }
 
 SdfOptions FillRun::coarse_options() const {
@@ -55,6 +57,16 @@ bool FillRun::split_wave_sites() {
   held_ = split_sites(*boundary_, waves, rooms, *engine_, view);
   if (held_.total_sites == 0) return false;
   if (o_.birth) put_given_site(held_, given_birth_site(plan_, *boundary_, o_), *engine_, view);
+  if (diagnostics_.components > 1) {
+    const HeldCandidates candidates =
+        mesh_candidates(*boundary_, mesh_.bounds(), coarse_options().spacing, plan_.radius, view);
+    for (const KeyedSite& k : sites_for_parts(held_.sites, candidates)) {
+      ++held_.total_sites;
+      if (!view.decides(k.site.position)) continue;
+      held_.sites.push_back(k.site);  // (the parts' keys come after every lattice index: still in key order)
+      held_.keys.push_back(k.key);
+    }
+  }
   return true;
 }
 
@@ -65,26 +77,40 @@ bool FillRun::report_sites_from_mesh() {
                               *engine_->process_group());
   if (sites_.empty()) return false;
   put_given_birth(sites_, plan_, *boundary_, o_);
+  if (diagnostics_.components > 1)
+    for (const KeyedSite& k : sites_for_parts(sites_, held)) sites_.push_back(k.site);
   held_ = replicated_sites(sites_, {});
   return true;
 }
 
 void FillRun::plan_sites() {
   sites_ = plan_birth_sites(plan_, field_, *boundary_, o_);
-  if (diagnostics_.components > 1) {  // every closed part that can hold a sphere gets a site
-    const PartSites parts = add_sites_per_part(field_, plan_.radius, sites_);
-    result_.parts = parts.parts;
-    result_.parts_too_small = parts.too_small;
-    if (parts.too_small > 0)
-      result_.warnings.push_back(std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
-                                 " closed parts are too small for a sphere of radius " +
-                                 short_number(plan_.radius) + " and stay empty");
-  }
+  if (diagnostics_.components > 1)  // every closed part that can hold a sphere gets a site
+    note_parts(add_sites_per_part(field_, plan_.radius, sites_));
   // (Unequal spheres: the waves' sites alone.)
   std::vector<BirthSite> room_sites;
   if (plan_.waves && o_.room_spacing > 0 && !plan_.sizes)
     room_sites = spread_birth_sites(field_, o_.room_spacing * plan_.rest_distance(o_), kRoomSiteDepth * plan_.radius);
   held_ = replicated_sites(sites_, std::move(room_sites));
+}
+
+std::vector<KeyedSite> FillRun::sites_for_parts(const std::vector<BirthSite>& sites,
+                                                const HeldCandidates& candidates) {
+  const PartSiteChoice parts =
+      sites_for_empty_parts(MeshParts(*boundary_), sites, candidates, plan_.radius, *engine_->process_group());
+  note_parts(parts.counts);
+  return parts.added;
+}
+
+void FillRun::note_parts(const PartSites& parts) {
+  result_.parts = parts.parts;
+  result_.parts_too_small = parts.too_small;
+  if (parts.too_small == 0) return;
+  const std::string warning = std::to_string(parts.too_small) + " of the mesh's " + std::to_string(parts.parts) +
+                              " closed parts are too small for a sphere of radius " + short_number(plan_.radius) +
+                              " and stay empty";
+  std::vector<std::string>& w = result_.warnings;
+  if (std::find(w.begin(), w.end(), warning) == w.end()) w.push_back(warning);  // (once: a new scale plans again)
 }
 
 void FillRun::rescale_for_large_first() {

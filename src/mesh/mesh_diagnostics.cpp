@@ -139,4 +139,21 @@ MeshDiagnostics diagnose(const Mesh& mesh) {
   return d;
 }
 
+std::vector<uint32_t> triangle_components(const Mesh& mesh) {
+  DisjointSets sets(mesh.positions.size());
+  for (const Triangle& t : mesh.triangles) {
+    sets.unite(t[0], t[1]);
+    sets.unite(t[1], t[2]);
+  }
+  constexpr uint32_t kUnnumbered = UINT32_MAX;
+  std::vector<uint32_t> number(mesh.positions.size(), kUnnumbered), out(mesh.triangles.size());
+  uint32_t next = 0;
+  for (size_t t = 0; t < mesh.triangles.size(); ++t) {
+    uint32_t& n = number[sets.find(mesh.triangles[t][0])];
+    if (n == kUnnumbered) n = next++;
+    out[t] = n;
+  }
+  return out;
+}
+
 }  // namespace pfill
