@@ -4,7 +4,7 @@
 # OpenCL engine gives (a sphere at -n 300: about 300), one output file
 # written by rank 0; the same with births in waves (their sites the same
 # at any rank count), and with unequal spheres; at more than one rank, the same fill's output written
-# per rank and joined back; and a bad option refused in one line before
+# per rank and joined back; frames written by rank 0; and a bad option refused in one line before
 # LAMMPS starts on any rank.
 # Usage: mpi_fill.sh PFILL MPIRUN NP
 set -euo pipefail
@@ -192,6 +192,18 @@ if [ "$np" -gt 1 ]; then
   cmp -s <(tail -n +2 "$tmp/mix.csv" | sort) <(tail -n +2 "$tmp/mixjoined.csv" | sort) ||
     { echo "unequal spheres: the joined parts differ from rank 0's mix.csv"; exit 1; }
 fi
+
+# Frames (--frames): every rank takes each one, rank 0 alone writes it (before
+# 2026-12-07 rank 0 alone asked for the spheres, a collective, and at 2 ranks
+# mpirun aborted at the first frame); the last frame is the output.
+run "$pfill" fill --builtin sphere -n 300 --seed 1 --engine lammps -q --frames "$tmp/frames" --every 1000 \
+  -o "$tmp/framed.csv" > "$tmp/stdout" 2> "$tmp/stderr" || { cat "$tmp/stderr"; exit 1; }
+frames=("$tmp"/frames/frame_*.ply)
+[ "${#frames[@]}" -ge 3 ] || { echo "frames: ${#frames[@]} written"; exit 1; }
+last_vertices=$(grep -a -m1 '^element vertex' "${frames[-1]}" | awk '{print $3}')
+[ "$last_vertices" -eq $(($(wc -l < "$tmp/framed.csv") - 1)) ] ||
+  { echo "frames: the last frame has $last_vertices spheres, the output $(($(wc -l < "$tmp/framed.csv") - 1))"; exit 1; }
+echo "frames: ${#frames[@]} written, the last one the output's $last_vertices spheres"
 
 # More than one rank: the output per rank (-o part.%r.csv, docs/lammps_engine.md
 # "Output per rank") from the same options: each rank writes a part, none of

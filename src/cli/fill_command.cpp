@@ -222,7 +222,14 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
     a.options.wall_from_mesh = true;  // each rank computes only the wall its spheres reach
     rank = lammps_mpi_start().rank;
     writer = rank == 0;
-    if (!writer) a.quiet = true, a.verbose = false, a.frames.clear();
+    if (!writer) {
+      a.quiet = true, a.verbose = false;
+      if (!a.frames.empty()) {  // every rank takes each frame (collective); rank 0 writes it
+        a.options.frame_every = a.frame_every;
+        a.options.on_frame = [](uint64_t, const ParticleSet&) {};
+      }
+      a.frames.clear();
+    }
   }
 
   ProgressPrinter printer(a.quiet);

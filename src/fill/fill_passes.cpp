@@ -12,7 +12,9 @@
 #include "pfill/count_rule.hpp"
 #include "fill/particle_set_of.hpp"
 #include "pfill/engine/engine.hpp"
+#include "pfill/engine/local_view.hpp"
 #include "pfill/error.hpp"
+#include "pfill/particle_share.hpp"
 #include "fill/short_number.hpp"
 #include "fill/site_verdicts.hpp"
 #include "fill/stopwatch.hpp"
@@ -227,7 +229,7 @@ std::vector<int> FillPasses::run_batch(bool births) {
   if (births_ahead || frame_due) {  // (a hold on births may end next batch)
     if (frame_due) {
       last_frame_ = engine_.steps_done() / o_.frame_every;
-      o_.on_frame(engine_.steps_done(), to_particle_set(engine_.read_particles()));
+      o_.on_frame(engine_.steps_done(), frame_particles());
     }
     take_birth_view();
   }
@@ -389,6 +391,17 @@ double FillPasses::birth_reach() const {
 /// of its sub-domain; the report's schedule of unequal spheres, whose
 /// births depend on each other in the sites' order, sees every particle
 /// and decides every site.
+/// A frame's spheres: all of them; on the LAMMPS engine at P > 1 every
+/// rank's own, gathered to the first only (rank 0 writes the frames, as it
+/// writes one output file; collective: every rank takes each frame).
+ParticleSet FillPasses::frame_particles() {
+  const std::shared_ptr<ProcessGroup> group = engine_.process_group();
+  if (group->alone()) return to_particle_set(engine_.read_particles());
+  LocalView own = engine_.local_view(0);
+  own.particles.resize(own.own);
+  return gather_particles(*group, to_particle_set(own.particles));
+}
+
 void FillPasses::take_birth_view() {
   view_reach_ = birth_reach();
   view_ = engine_.birth_view(view_reach_, sizes_ && !plan_.waves);

@@ -71,6 +71,7 @@ class FillPasses {
   int birth_at_sites();
   int birth_wave();
   void take_birth_view();
+  ParticleSet frame_particles();
   double birth_reach() const;
   bool room_births_due() const;
   int birth_wave_of_sizes();
