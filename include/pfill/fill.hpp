@@ -161,7 +161,11 @@ struct FillOptions {
   /// eighth of the samples) for the sites, its samples freed once they
   /// are chosen. The finish's holes ask the mesh.
   bool wall_from_mesh = false;
-  /// Called with a snapshot every `frame_every` steps (for --frames).
+  /// Called with a snapshot every `frame_every` steps (for --frames). On
+  /// an engine shared by several processes (the LAMMPS engine at P > 1)
+  /// every process is called at the same steps; the first (rank 0) gets
+  /// every sphere, the others an empty set (each frame is gathered to the
+  /// first only, as one output file is).
   std::function<void(uint64_t step, const ParticleSet&)> on_frame;
   uint64_t frame_every = 0;
   /// Polled once the distance field is built, then at every host sync
