@@ -2,7 +2,8 @@
 // on the field, or where no process builds one (the LAMMPS engine) from
 // the mesh, each process choosing the sites of its own sub-domain or the
 // report's few sites from the candidates it holds; the rare large spheres'
-// scale and placement on the same (large_first.hpp).
+// scale and placement on the same (large_first.hpp), and a site for each
+// of the mesh's closed parts that has none (part_sites.hpp).
 #include <algorithm>
 #include <memory>
 #include <optional>
