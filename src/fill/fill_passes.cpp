@@ -252,7 +252,7 @@ int FillPasses::birth_at_sites() {
   std::vector<int> verdicts(sites.size(), 0);
   if (!sizes_) {
     mark_sites_with_room(view_, sites, [&](const BirthSite& s) {
-      return site_has_room(snapshot_, s.position, clearance) && !pocket_full(snapshot_, s, plan_.radius);
+      return site_has_room(snapshot_, s.position, clearance) && !pocket_full(snapshot_, s, plan_.mean_radius);
     }, verdicts);
     share_verdicts(engine_, view_, verdicts);
   }
@@ -297,9 +297,9 @@ int FillPasses::birth_wave() {
 /// open room sites (each in key order), each site's room tested here.
 void FillPasses::open_sites(bool rooms, std::vector<OpenSite>& open, std::vector<OpenSite>& room_open) const {
   const RoomGrid room(snapshot_, plan_.birth_clearance * plan_.rest_distance(o_));
-  add_open_sites(view_, held_.sites, [&](size_t k) { return held_.key(k); },
-                 [&](const BirthSite& s) { return room.has_room(s.position) && !room.pocket_full(s, plan_.radius); },
-                 open);
+  add_open_sites(view_, held_.sites, [&](size_t k) { return held_.key(k); }, [&](const BirthSite& s) {
+    return room.has_room(s.position) && !room.pocket_full(s, plan_.mean_radius);
+  }, open);
   if (!rooms) return;
   const RoomGrid clear(snapshot_, kRoomClearance * plan_.rest_distance(o_));
   add_open_sites(view_, held_.room_sites, [&](size_t k) { return held_.room_key(k); },
@@ -386,11 +386,6 @@ double FillPasses::birth_reach() const {
   return share * plan_.rest_distance(o_);
 }
 
-/// The room tests' view of the particles (ParticleEngine::birth_view): on
-/// the LAMMPS engine at P > 1 this rank's atoms and those within the reach
-/// of its sub-domain; the report's schedule of unequal spheres, whose
-/// births depend on each other in the sites' order, sees every particle
-/// and decides every site.
 /// A frame's spheres: all of them; on the LAMMPS engine at P > 1 every
 /// rank's own, gathered to the first only (rank 0 writes the frames, as it
 /// writes one output file; collective: every rank takes each frame).
@@ -402,6 +397,11 @@ ParticleSet FillPasses::frame_particles() {
   return gather_particles(*group, to_particle_set(own.particles));
 }
 
+/// The room tests' view of the particles (ParticleEngine::birth_view): on
+/// the LAMMPS engine at P > 1 this rank's atoms and those within the reach
+/// of its sub-domain; the report's schedule of unequal spheres, whose
+/// births depend on each other in the sites' order, sees every particle
+/// and decides every site.
 void FillPasses::take_birth_view() {
   view_reach_ = birth_reach();
   view_ = engine_.birth_view(view_reach_, sizes_ && !plan_.waves);
