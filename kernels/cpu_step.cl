@@ -1,7 +1,8 @@
 /* cpu_step.cl: the CPU form's `advance` (after cpu_pairs.cl, whose
  * pair_forces runs before it): the force buffers' sums, the integration,
- * the wall, the list requests, and the per-step records, an octet of
- * particles at a time as float8 lanes; and finalize_history. */
+ * the wall (with each particle's kept cell of the field), the list
+ * requests, and the per-step records, an octet of particles at a time as
+ * float8 lanes; and finalize_history. */
 
 /* The lanes whose new position (x, y, z) lies more than sqrt(limit2)
  * from ref[0..7] (where the lists were built or pruned). */
@@ -14,13 +15,83 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
   return pf_norm2_8(x - a, y - b, z - c) > limit2;
 }
 
+/* The wall's kept cells: particle i keeps the cell it last sampled the
+ * field in (kept_cell[i], its first sample's index; PF_NO_CELL: none) and
+ * that cell's 8 corner values (kept_corners: per octet of particles, 8
+ * float8s, corner c of the octet's lanes in the octet's c-th, corners in
+ * pf_trilinear's order). A sphere against the wall samples the field every
+ * step but stays in one cell for many, and its 8 corners, gathered from 4
+ * cache lines far apart in a field of up to 256 MiB, were most of
+ * pf_field_sample8's time (the stall at the first gather); kept, they are
+ * 8 reads of 32 bytes in particle order. An entry is the corners of its
+ * cell whichever particle wrote it, so births, removals and sorts leave
+ * the entries true; only a new field or new memory must reset them to
+ * PF_NO_CELL (ParticleArrays). */
+#define PF_NO_CELL 0xffffffffu
+#ifndef PF_FIELD_IMAGE
+/* pf_field_sample8 at the lanes of octet i0, their kept corners read
+ * where their cell is still the kept one, the field's corners gathered
+ * (and kept) where not: the same corner values, so the same result to the
+ * bit. */
+float8 pf_field_sample8_kept(__global const float* f, int4 dims, float4 origin, float8 px, float8 py, float8 pz,
+                             float8* g, int8 lanes, __global uint* kept_cell, __global float8* kept_corners, uint i0) {
+  const float inv_spacing = origin.w;
+  const float8 gx = fmin(fmax((px - origin.x) * inv_spacing, 0.0f), (float)(dims.x - 1));
+  const float8 gy = fmin(fmax((py - origin.y) * inv_spacing, 0.0f), (float)(dims.y - 1));
+  const float8 gz = fmin(fmax((pz - origin.z) * inv_spacing, 0.0f), (float)(dims.z - 1));
+  const int8 i = min(convert_int8(floor(gx)), (int8)(dims.x - 2)), j = min(convert_int8(floor(gy)), (int8)(dims.y - 2)),
+             k = min(convert_int8(floor(gz)), (int8)(dims.z - 2));
+  const float8 tx = gx - convert_float8(i), ty = gy - convert_float8(j), tz = gz - convert_float8(k);
+  const int sy = dims.x, sz = dims.x * dims.y;
+  const int8 base = i + dims.x * (j + dims.y * k);
+  const int8 cells = as_int8(vload8(0, kept_cell + i0)), miss = lanes & (cells != base);
+  __global float8* c = kept_corners + i0; /* the octet's 8 float8s (i0 is a multiple of 8) */
+  const int8 off = ~lanes;                /* lanes not asked for read 0, as the gathers give them */
+  float8 v000 = select(c[0], 0.0f, off), v100 = select(c[1], 0.0f, off), v010 = select(c[2], 0.0f, off),
+         v110 = select(c[3], 0.0f, off), v001 = select(c[4], 0.0f, off), v101 = select(c[5], 0.0f, off),
+         v011 = select(c[6], 0.0f, off), v111 = select(c[7], 0.0f, off);
+  if (pf_any8(miss)) {
+    v000 = select(v000, pf_field_gather8(f, base, miss), miss);
+    v100 = select(v100, pf_field_gather8(f, base + 1, miss), miss);
+    v010 = select(v010, pf_field_gather8(f, base + sy, miss), miss);
+    v110 = select(v110, pf_field_gather8(f, base + (sy + 1), miss), miss);
+    v001 = select(v001, pf_field_gather8(f, base + sz, miss), miss);
+    v101 = select(v101, pf_field_gather8(f, base + (sz + 1), miss), miss);
+    v011 = select(v011, pf_field_gather8(f, base + (sy + sz), miss), miss);
+    v111 = select(v111, pf_field_gather8(f, base + (sy + sz + 1), miss), miss);
+    /* kept: the octet's other lanes keep theirs */
+    c[0] = select(c[0], v000, miss);
+    c[1] = select(c[1], v100, miss);
+    c[2] = select(c[2], v010, miss);
+    c[3] = select(c[3], v110, miss);
+    c[4] = select(c[4], v001, miss);
+    c[5] = select(c[5], v101, miss);
+    c[6] = select(c[6], v011, miss);
+    c[7] = select(c[7], v111, miss);
+    vstore8(as_uint8(select(cells, base, miss)), 0, kept_cell + i0);
+  }
+  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, (float8)(inv_spacing), g);
+}
+#else
+#define pf_field_sample8_kept(f, dims, origin, px, py, pz, g, lanes, kept_cell, kept_corners, i0) \
+  pf_field_sample8(f, dims, origin, px, py, pz, g, lanes)
+#endif
+
 /* physics.cl's rules at 8 lanes. */
 PF_DEFINE_KICK_DRIFT(pf_kick_drift8, float8)
 PF_DEFINE_FIRE_KICK_DRIFT(pf_fire_kick_drift8, float8, int8)
 PF_DEFINE_WALL_VELOCITY_CHANGE(pf_wall_velocity_change8, float8)
+#ifndef PF_KEPT_CELLS
+#define PF_KEPT_CELLS 1 /* the wall's kept cells (above); 0: every sample gathers (tests, benchmarks) */
+#endif
+#if PF_KEPT_CELLS
+#define PF_SAMPLE8(PX, PY, PZ, G, LANES) \
+  pf_field_sample8_kept(sdf, sdf_dims, sdf_origin, PX, PY, PZ, G, LANES, kept_cell, kept_corners, i0)
+#else
 #define PF_SAMPLE8(PX, PY, PZ, G, LANES) pf_field_sample8(sdf, sdf_dims, sdf_origin, PX, PY, PZ, G, LANES)
+#endif
 PF_DEFINE_WALL_PUSH(pf_wall_push8, float8, int8, pf_any8, PF_SAMPLE8, pf_wall_velocity_change8, PF_FIELD_ARG sdf,
-                    float4 sdf_origin, int4 sdf_dims)
+                    float4 sdf_origin, int4 sdf_dims, __global uint* kept_cell, __global float8* kept_corners, uint i0)
 
 /* Eight lanes' new state: position p, velocity u, wall clearance, and
  * which lanes the wall found outside. */
@@ -35,16 +106,17 @@ typedef struct {
  * pushed back along the gradient and its outward normal velocity
  * reflected; the near lanes' new clearance. (State by value: pointers
  * into the caller's vectors would keep them in memory.) */
-pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims) {
+pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sdf_origin, int4 sdf_dims,
+                   __global uint* kept_cell, __global float8* kept_corners, uint i0) {
   float8 g[3];
-  float8 phi = pf_field_sample8(sdf, sdf_dims, sdf_origin, s.px, s.py, s.pz, g, near);
+  float8 phi = PF_SAMPLE8(s.px, s.py, s.pz, g, near);
   const float8 grid_x = (s.px - sdf_origin.x) * sdf_origin.w, grid_y = (s.py - sdf_origin.y) * sdf_origin.w,
                grid_z = (s.pz - sdf_origin.z) * sdf_origin.w;
   const int8 outside_box = grid_x < 0.0f | grid_y < 0.0f | grid_z < 0.0f | grid_x > (float)(sdf_dims.x - 1) |
                            grid_y > (float)(sdf_dims.y - 1) | grid_z > (float)(sdf_dims.z - 1);
   s.flagged = near & ((phi > 0.0f) | outside_box);
   phi = pf_wall_push8(&s.px, &s.py, &s.pz, &s.ux, &s.uy, &s.uz, phi, g, near & (phi > -r), r,
-                      (float8)(PF_WALL_RESTITUTION), sdf, sdf_origin, sdf_dims);
+                      (float8)(PF_WALL_RESTITUTION), sdf, sdf_origin, sdf_dims, kept_cell, kept_corners, i0);
   s.clearance = select(s.clearance, select(fmax(-phi - r, 0.0f), (float8)(0.0f), outside_box), near);
   return s;
 }
@@ -61,7 +133,8 @@ pf_lanes8 pf_wall8(pf_lanes8 s, int8 near, float8 r, PF_FIELD_ARG sdf, float4 sd
  * lanes cost far more). PoCL runs `advance`'s work-items one
  * after the other, scalar, so octets give it SIMD. */
 float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG sdf, float4 sdf_origin,
-                   int4 sdf_dims, __global uint* flags, __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
+                   int4 sdf_dims, __global uint* kept_cell, __global float8* kept_corners, __global uint* flags,
+                   __global float* C, __global const float4* XREF, __global const float4* XPRUNE,
                    __global uint* request, uint request_raise, uint rebuild, __global float4* F, uint force_groups,
                    uint force_stride, __global const uint2* force_spans, __global const uint* build_bits, uint n,
                    float8 fire_now, uint step_index) {
@@ -131,7 +204,7 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
     const int8 near = live & (s.clearance <= 0.0f);
 #endif
     if (pf_any8(near)) {
-      s = pf_wall8(s, near, r, sdf, sdf_origin, sdf_dims);
+      s = pf_wall8(s, near, r, sdf, sdf_origin, sdf_dims, kept_cell, kept_corners, i0);
       if (pf_any8(s.flagged)) {
         bits |= select((uint8)(0u), (uint8)(PF_FLAGGED_BIT), s.flagged);
         int fl[8];
@@ -177,7 +250,8 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
  * force_stride apart; with PF_NEWTON buffer g is nonzero only for the
  * particles in force_spans[g]) and the list build's overflow bits in
  * build_bits. sdf_origin = (origin, 1/spacing), sdf_dims = (nx, ny, nz,
- * has_walls). Work-items: one an octet, and a group for each level-2
+ * has_walls); kept_cell / kept_corners: the particles' kept cells of the
+ * field (pf_field_sample8_kept). Work-items: one an octet, and a group for each level-2
  * partial of the last step. L1_out / L2_out: this step's level-1 partials
  * and the last step's level-2 ones; L1_prev: the last step's level-1
  * partials (g1_prev; 0: none); L2_prev: the level-2 partials of the step
@@ -186,8 +260,9 @@ float8 pf_advance8(uint i0, __global float4* X, __global float4* V, PF_FIELD_ARG
  * request_clear. */
 __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
     __global float4* X, __global float4* V, PF_FIELD_ARG sdf, const float4 sdf_origin, const int4 sdf_dims,
-    __global uint* flags, __global float* C, const uint n, __global float8* L1_out, __global const float8* L1_prev,
-    const uint g1_prev, __global float8* L2_out, __global const float8* L2_prev, const uint g2_prev2,
+    __global uint* kept_cell, __global float8* kept_corners, __global uint* flags, __global float* C, const uint n,
+    __global float8* L1_out, __global const float8* L1_prev, const uint g1_prev, __global float8* L2_out,
+    __global const float8* L2_prev, const uint g2_prev2,
     __global float8* history, const uint slot_prev2, __global const float4* XREF, __global const float4* XPRUNE,
     __global uint* request, const uint request_read, const uint request_raise, const uint request_clear,
     const uint force_rebuild, __global float4* F, const uint force_groups, const uint force_stride,
@@ -201,9 +276,9 @@ __kernel __attribute__((reqd_work_group_size(PF_WG, 1, 1))) void advance(
    * one after the other, and idle ones cost time too. */
   const uint rebuild = force_rebuild || (request[request_read] & PF_REQUEST_REBUILD);
   if (i < (n + 7u) / 8u) {
-    L1_out[i] = pf_advance8(8u * i, X, V, sdf, sdf_origin, sdf_dims, flags, C, XREF, XPRUNE, request,
-                            request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits, n,
-                            PF_FIRE ? fire[fire_read] : (float8)(0.0f), step_index);
+    L1_out[i] = pf_advance8(8u * i, X, V, sdf, sdf_origin, sdf_dims, kept_cell, kept_corners, flags, C, XREF, XPRUNE,
+                            request, request_raise, rebuild, F, force_groups, force_stride, force_spans, build_bits,
+                            n, PF_FIRE ? fire[fire_read] : (float8)(0.0f), step_index);
   } else if (i == 0u) {
     L1_out[0] = record; /* no particles: one empty record */
   }

@@ -67,6 +67,7 @@ void Engine::share_field(const ScalarGrid& field) { set_field(field, true); }
 
 void Engine::set_field(const ScalarGrid& field, bool borrow) {
   impl_->state.wall.set(field, borrow);
+  impl_->state.particles.forget_kept_cells();  // the kept corners are the old field's
   Box3 box;
   box.add(field.origin);
   box.add(field.upper());

@@ -7,7 +7,9 @@ ParticleArrays::ParticleArrays(Device& device)
     : X{{device, "positions"}, {device, "positions"}},
       V{{device, "velocities"}, {device, "velocities"}},
       flags(device, "flags"),
-      clearance(device, "wall clearance") {}
+      clearance(device, "wall clearance"),
+      kept_cell(device, "wall kept cells"),
+      kept_corners(device, "wall kept corners") {}
 
 void ParticleArrays::grow(size_t cap, int copies) {
   const size_t n = ids.size();
@@ -21,6 +23,11 @@ void ParticleArrays::grow(size_t cap, int copies) {
   }
   flags.grow(cap, n);
   clearance.grow(cap, n);
+  // An entry holds its cell's corners whichever particle wrote it: those
+  // kept stay true, the new memory holds none.
+  kept_cell.grow(cap, n);
+  kept_cell.fill(kNoCell, n);
+  kept_corners.grow(cap, (n + 7) / 8 * 8, true);  // (by octets: the last one's lanes past n too)
   copies_ = copies;
 }
 

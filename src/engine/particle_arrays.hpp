@@ -1,6 +1,7 @@
 // The particles on the device: positions with radii (X) and velocities
 // with inverse masses (V), in one copy or two (the GPU form's ping-pong),
-// the outside flags, the wall clearances, and host-side the caller's ids.
+// the outside flags, the wall clearances and kept cells, and host-side the
+// caller's ids.
 #pragma once
 #include <CL/opencl.hpp>
 
@@ -29,6 +30,11 @@ class ParticleArrays {
   /// Indices of the flagged particles among the first `count`.
   std::vector<size_t> flagged(size_t count) const;
 
+  /// Every kept cell forgotten: the field changed.
+  void forget_kept_cells() {
+    if (kept_cell.size() > 0) kept_cell.fill(kNoCell);
+  }
+
   size_t capacity() const { return flags.size(); }
   /// The current copy of X and V, and the one a ping-pong step writes.
   const DeviceArray<cl_float4>& x() const { return X[cur]; }
@@ -41,6 +47,12 @@ class ParticleArrays {
   DeviceArray<cl_float4> X[2], V[2];
   DeviceArray<cl_uint> flags;
   DeviceArray<cl_float> clearance;  // lower bounds on the distance to the wall (0: sample the field)
+  /// The wall's kept cells (kernels/field.cl pf_field_sample8_kept): each
+  /// index's last sampled cell (kNoCell: none) and its 8 corner values
+  /// (by octets of particles: corner c of octet o's lanes at 8 o + c).
+  DeviceArray<cl_uint> kept_cell;
+  DeviceArray<cl_float8> kept_corners;
+  static constexpr cl_uint kNoCell = 0xffffffffu;  // field.cl PF_NO_CELL
   std::vector<uint64_t> ids;        // Particle::id of each index, kept through removals and sorts
   int cur = 0;
 

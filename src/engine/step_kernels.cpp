@@ -170,6 +170,7 @@ void StepKernels::bind_shared(Kernel& k, bool force_rebuild) {
   else
     k.bind("sdf", s.wall.buffer());
   k.bind("sdf_origin", s.wall.origin).bind("sdf_dims", s.wall.dims);
+  k.bind("kept_cell", p.kept_cell).bind("kept_corners", p.kept_corners);
   k.bind("L1_out", r.level1_out(t)).bind("L1_prev", r.level1_prev(t)).bind("g1_prev", r.level1_pending());
   k.bind("L2_out", r.level2_out(t)).bind("L2_prev", r.level2_prev(t)).bind("g2_prev2", r.level2_pending());
   k.bind("history", r.ring()).bind("slot_prev2", r.slot_two_back(t));
