@@ -35,15 +35,9 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
  * bit. */
 float8 pf_field_sample8_kept(__global const float* f, int4 dims, float4 origin, float8 px, float8 py, float8 pz,
                              float8* g, int8 lanes, __global uint* kept_cell, __global float8* kept_corners, uint i0) {
-  const float inv_spacing = origin.w;
-  const float8 gx = fmin(fmax((px - origin.x) * inv_spacing, 0.0f), (float)(dims.x - 1));
-  const float8 gy = fmin(fmax((py - origin.y) * inv_spacing, 0.0f), (float)(dims.y - 1));
-  const float8 gz = fmin(fmax((pz - origin.z) * inv_spacing, 0.0f), (float)(dims.z - 1));
-  const int8 i = min(convert_int8(floor(gx)), (int8)(dims.x - 2)), j = min(convert_int8(floor(gy)), (int8)(dims.y - 2)),
-             k = min(convert_int8(floor(gz)), (int8)(dims.z - 2));
-  const float8 tx = gx - convert_float8(i), ty = gy - convert_float8(j), tz = gz - convert_float8(k);
+  float8 t[3];
+  const int8 base = pf_field_cell8(dims, origin, px, py, pz, t);
   const int sy = dims.x, sz = dims.x * dims.y;
-  const int8 base = i + dims.x * (j + dims.y * k);
   const int8 cells = as_int8(vload8(0, kept_cell + i0)), miss = lanes & (cells != base);
   __global float8* c = kept_corners + i0; /* the octet's 8 float8s (i0 is a multiple of 8) */
   const int8 off = ~lanes;                /* lanes not asked for read 0, as the gathers give them */
@@ -70,7 +64,7 @@ float8 pf_field_sample8_kept(__global const float* f, int4 dims, float4 origin, 
     c[7] = select(c[7], v111, miss);
     vstore8(as_uint8(select(cells, base, miss)), 0, kept_cell + i0);
   }
-  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, (float8)(inv_spacing), g);
+  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, t[0], t[1], t[2], (float8)(origin.w), g);
 }
 #else
 #define pf_field_sample8_kept(f, dims, origin, px, py, pz, g, lanes, kept_cell, kept_corners, i0) \

@@ -74,6 +74,26 @@ float8 pf_field_gather8(__global const float* f, int8 at, int8 lanes) {
 
 PF_DEFINE_TRILINEAR(pf_trilinear8, float8)
 
+#ifndef PF_FIELD_IMAGE
+/* The grid cell each of 8 points lies in, clamped into the grid as
+ * physics.cl pf_sdf_sample does: its first corner's index (returned) and
+ * the point's place in it, t[0..2] in [0, 1] along x, y, z. */
+int8 pf_field_cell8(int4 dims, float4 origin, float8 px, float8 py, float8 pz, float8 t[3]) {
+  const float inv_spacing = origin.w;
+  const float8 gx = fmin(fmax((px - origin.x) * inv_spacing, 0.0f), (float)(dims.x - 1));
+  const float8 gy = fmin(fmax((py - origin.y) * inv_spacing, 0.0f), (float)(dims.y - 1));
+  const float8 gz = fmin(fmax((pz - origin.z) * inv_spacing, 0.0f), (float)(dims.z - 1));
+  /* (vector bounds, not min(int8, int): oclgrind gave some lanes garbage
+   * there, and those lanes read out of the field) */
+  const int8 i = min(convert_int8(floor(gx)), (int8)(dims.x - 2)), j = min(convert_int8(floor(gy)), (int8)(dims.y - 2)),
+             k = min(convert_int8(floor(gz)), (int8)(dims.z - 2));
+  t[0] = gx - convert_float8(i);
+  t[1] = gy - convert_float8(j);
+  t[2] = gz - convert_float8(k);
+  return i + dims.x * (j + dims.y * k);
+}
+#endif
+
 /* The wall field (value, and its gradient in g) at 8 points as float8
  * lanes: physics.cl pf_sdf_sample and pf_trilinear (as pf_trilinear8), the
  * corners read by gathers. With PF_FIELD_IMAGE each lane samples the
@@ -104,22 +124,14 @@ float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, flo
   g[2] = vload8(0, gz);
   return vload8(0, v);
 #else
-  const float inv_spacing = origin.w;
-  const float8 gx = fmin(fmax((px - origin.x) * inv_spacing, 0.0f), (float)(dims.x - 1));
-  const float8 gy = fmin(fmax((py - origin.y) * inv_spacing, 0.0f), (float)(dims.y - 1));
-  const float8 gz = fmin(fmax((pz - origin.z) * inv_spacing, 0.0f), (float)(dims.z - 1));
-  /* (vector bounds, not min(int8, int): oclgrind gave some lanes garbage
-   * there, and those lanes read out of the field) */
-  const int8 i = min(convert_int8(floor(gx)), (int8)(dims.x - 2)), j = min(convert_int8(floor(gy)), (int8)(dims.y - 2)),
-             k = min(convert_int8(floor(gz)), (int8)(dims.z - 2));
-  const float8 tx = gx - convert_float8(i), ty = gy - convert_float8(j), tz = gz - convert_float8(k);
+  float8 t[3];
+  const int8 base = pf_field_cell8(dims, origin, px, py, pz, t);
   const int sy = dims.x, sz = dims.x * dims.y;
-  const int8 base = i + dims.x * (j + dims.y * k);
   const float8 v000 = pf_field_gather8(f, base, lanes), v100 = pf_field_gather8(f, base + 1, lanes);
   const float8 v010 = pf_field_gather8(f, base + sy, lanes), v110 = pf_field_gather8(f, base + (sy + 1), lanes);
   const float8 v001 = pf_field_gather8(f, base + sz, lanes), v101 = pf_field_gather8(f, base + (sz + 1), lanes);
   const float8 v011 = pf_field_gather8(f, base + (sy + sz), lanes), v111 = pf_field_gather8(f, base + (sy + sz + 1), lanes);
-  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, tx, ty, tz, (float8)(inv_spacing), g);
+  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, t[0], t[1], t[2], (float8)(origin.w), g);
 #endif
 
 }
