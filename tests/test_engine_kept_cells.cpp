@@ -1,4 +1,4 @@
-// The wall's kept cells (kernels/field.cl pf_field_sample8_kept: each
+// The wall's kept cells (kernels/cpu_step.cl pf_field_sample8_kept: each
 // particle keeps the corners of the field's cell it last sampled): the
 // same positions, bit for bit, as sampling the field afresh every time
 // (the kernels built with PF_KEPT_CELLS=0), through births, removals and a
@@ -8,6 +8,7 @@
 #include "skip.hpp"
 
 #include <cstdlib>
+#include <memory>
 #include <optional>
 #include <string>
 

@@ -26,7 +26,7 @@ void ParticleArrays::grow(size_t cap, int copies) {
   // An entry holds its cell's corners whichever particle wrote it: those
   // kept stay true, the new memory holds none.
   kept_cell.grow(cap, n);
-  kept_cell.fill(kNoCell, n);
+  if (cap > n) kept_cell.fill(kNoCell, n);
   kept_corners.grow(cap, (n + 7) / 8 * 8, true);  // (by octets: the last one's lanes past n too)
   copies_ = copies;
 }

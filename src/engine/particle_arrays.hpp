@@ -47,12 +47,12 @@ class ParticleArrays {
   DeviceArray<cl_float4> X[2], V[2];
   DeviceArray<cl_uint> flags;
   DeviceArray<cl_float> clearance;  // lower bounds on the distance to the wall (0: sample the field)
-  /// The wall's kept cells (kernels/field.cl pf_field_sample8_kept): each
+  /// The wall's kept cells (kernels/cpu_step.cl pf_field_sample8_kept): each
   /// index's last sampled cell (kNoCell: none) and its 8 corner values
   /// (by octets of particles: corner c of octet o's lanes at 8 o + c).
   DeviceArray<cl_uint> kept_cell;
   DeviceArray<cl_float8> kept_corners;
-  static constexpr cl_uint kNoCell = 0xffffffffu;  // field.cl PF_NO_CELL
+  static constexpr cl_uint kNoCell = 0xffffffffu;  // cpu_step.cl PF_NO_CELL
   std::vector<uint64_t> ids;        // Particle::id of each index, kept through removals and sorts
   int cur = 0;
 
