@@ -35,36 +35,23 @@ int8 pf_drifted8(__global const float4* ref, float8 x, float8 y, float8 z, float
  * bit. */
 float8 pf_field_sample8_kept(__global const float* f, int4 dims, float4 origin, float8 px, float8 py, float8 pz,
                              float8* g, int8 lanes, __global uint* kept_cell, __global float8* kept_corners, uint i0) {
-  float8 t[3];
+  float8 t[3], v[8];
   const int8 base = pf_field_cell8(dims, origin, px, py, pz, t);
-  const int sy = dims.x, sz = dims.x * dims.y;
   const int8 cells = as_int8(vload8(0, kept_cell + i0)), miss = lanes & (cells != base);
   __global float8* c = kept_corners + i0; /* the octet's 8 float8s (i0 is a multiple of 8) */
-  const int8 off = ~lanes;                /* lanes not asked for read 0, as the gathers give them */
-  float8 v000 = select(c[0], 0.0f, off), v100 = select(c[1], 0.0f, off), v010 = select(c[2], 0.0f, off),
-         v110 = select(c[3], 0.0f, off), v001 = select(c[4], 0.0f, off), v101 = select(c[5], 0.0f, off),
-         v011 = select(c[6], 0.0f, off), v111 = select(c[7], 0.0f, off);
+#pragma unroll
+  for (uint q = 0; q < 8u; ++q) v[q] = select(c[q], 0.0f, ~lanes); /* lanes not asked for read 0, as gathers give */
   if (pf_any8(miss)) {
-    v000 = select(v000, pf_field_gather8(f, base, miss), miss);
-    v100 = select(v100, pf_field_gather8(f, base + 1, miss), miss);
-    v010 = select(v010, pf_field_gather8(f, base + sy, miss), miss);
-    v110 = select(v110, pf_field_gather8(f, base + (sy + 1), miss), miss);
-    v001 = select(v001, pf_field_gather8(f, base + sz, miss), miss);
-    v101 = select(v101, pf_field_gather8(f, base + (sz + 1), miss), miss);
-    v011 = select(v011, pf_field_gather8(f, base + (sy + sz), miss), miss);
-    v111 = select(v111, pf_field_gather8(f, base + (sy + sz + 1), miss), miss);
-    /* kept: the octet's other lanes keep theirs */
-    c[0] = select(c[0], v000, miss);
-    c[1] = select(c[1], v100, miss);
-    c[2] = select(c[2], v010, miss);
-    c[3] = select(c[3], v110, miss);
-    c[4] = select(c[4], v001, miss);
-    c[5] = select(c[5], v101, miss);
-    c[6] = select(c[6], v011, miss);
-    c[7] = select(c[7], v111, miss);
+    float8 fresh[8];
+    pf_field_corners8(f, dims, base, miss, fresh);
+#pragma unroll
+    for (uint q = 0; q < 8u; ++q) {
+      v[q] = select(v[q], fresh[q], miss);
+      c[q] = select(c[q], fresh[q], miss); /* kept: the octet's other lanes keep theirs */
+    }
     vstore8(as_uint8(select(cells, base, miss)), 0, kept_cell + i0);
   }
-  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, t[0], t[1], t[2], (float8)(origin.w), g);
+  return pf_trilinear8(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], t[0], t[1], t[2], (float8)(origin.w), g);
 }
 #else
 #define pf_field_sample8_kept(f, dims, origin, px, py, pz, g, lanes, kept_cell, kept_corners, i0) \

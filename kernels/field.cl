@@ -92,6 +92,21 @@ int8 pf_field_cell8(int4 dims, float4 origin, float8 px, float8 py, float8 pz, f
   t[2] = gz - convert_float8(k);
   return i + dims.x * (j + dims.y * k);
 }
+
+/* The 8 corners of the cells whose first corners are `base`
+ * (pf_field_cell8), in pf_trilinear's order, read in the `lanes` set only
+ * (0 in the others). */
+void pf_field_corners8(__global const float* f, int4 dims, int8 base, int8 lanes, float8 v[8]) {
+  const int sy = dims.x, sz = dims.x * dims.y;
+  v[0] = pf_field_gather8(f, base, lanes);
+  v[1] = pf_field_gather8(f, base + 1, lanes);
+  v[2] = pf_field_gather8(f, base + sy, lanes);
+  v[3] = pf_field_gather8(f, base + (sy + 1), lanes);
+  v[4] = pf_field_gather8(f, base + sz, lanes);
+  v[5] = pf_field_gather8(f, base + (sz + 1), lanes);
+  v[6] = pf_field_gather8(f, base + (sy + sz), lanes);
+  v[7] = pf_field_gather8(f, base + (sy + sz + 1), lanes);
+}
 #endif
 
 /* The wall field (value, and its gradient in g) at 8 points as float8
@@ -124,14 +139,9 @@ float8 pf_field_sample8(PF_FIELD_ARG f, int4 dims, float4 origin, float8 px, flo
   g[2] = vload8(0, gz);
   return vload8(0, v);
 #else
-  float8 t[3];
-  const int8 base = pf_field_cell8(dims, origin, px, py, pz, t);
-  const int sy = dims.x, sz = dims.x * dims.y;
-  const float8 v000 = pf_field_gather8(f, base, lanes), v100 = pf_field_gather8(f, base + 1, lanes);
-  const float8 v010 = pf_field_gather8(f, base + sy, lanes), v110 = pf_field_gather8(f, base + (sy + 1), lanes);
-  const float8 v001 = pf_field_gather8(f, base + sz, lanes), v101 = pf_field_gather8(f, base + (sz + 1), lanes);
-  const float8 v011 = pf_field_gather8(f, base + (sy + sz), lanes), v111 = pf_field_gather8(f, base + (sy + sz + 1), lanes);
-  return pf_trilinear8(v000, v100, v010, v110, v001, v101, v011, v111, t[0], t[1], t[2], (float8)(origin.w), g);
+  float8 t[3], v[8];
+  pf_field_corners8(f, dims, pf_field_cell8(dims, origin, px, py, pz, t), lanes, v);
+  return pf_trilinear8(v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], t[0], t[1], t[2], (float8)(origin.w), g);
 #endif
 
 }
