@@ -155,7 +155,11 @@ bool pf_cell_in_reach_cells(float4 frac, int ox, int oy, int oz, float reach2) {
  * raised request[request_read]). Also empties the cells the last step
  * filled in the other set: by parity, touched[k] is the cell + 1 that
  * particle k was first into (0: none) and touched_upto the particles the
- * step listed (0 when it did not rebuild). */
+ * step listed (0 when it did not rebuild). Each work-item takes a run of
+ * consecutive particles (CPU devices launch a few items a core: a
+ * stride of the item count sent each core's writes all over the cells,
+ * and filled each cell out of index order for the list build to sort; GPU
+ * forms launch an item a particle, where the two are the same). */
 __kernel void insert_cells(__global const float4* X, __global uint* counts, __global float* slots, const uint cell_base,
                            const uint cells, __global uint* touched, __global uint* touched_upto,
                            const uint touched_stride, const float4 cell_origin, const float4 cell_inv,
@@ -164,13 +168,15 @@ __kernel void insert_cells(__global const float4* X, __global uint* counts, __gl
   const uint i = get_global_id(0), items = get_global_size(0);
   const uint now = cell_base == 0u ? 0u : 1u, other = 1u - now, other_base = cells - cell_base;
   const uint rebuild = force || (request[request_read] & PF_REQUEST_REBUILD);
-  for (uint k = i; k < touched_upto[other]; k += items) {
+  const uint zero_upto = touched_upto[other], zero_run = (zero_upto + items - 1u) / items;
+  for (uint k = i * zero_run; k < min(zero_upto, (i + 1u) * zero_run); ++k) {
     const uint cell = touched[other * touched_stride + k];
     if (cell != 0u) counts[other_base + cell - 1u] = 0u;
   }
   if (i == 0u) touched_upto[now] = rebuild ? n : 0u;
   if (!rebuild) return;
-  for (uint k = i; k < n; k += items) { /* CPU devices launch a few items a core: most steps return at once */
+  const uint run = (n + items - 1u) / items;
+  for (uint k = i * run; k < min(n, (i + 1u) * run); ++k) { /* (most steps return before this) */
     const float4 x = X[k];
 #if PF_LEVELS > 1
     const uint level = pf_level_of(x.w);
