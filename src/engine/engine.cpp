@@ -65,7 +65,7 @@ const EngineParams& Engine::params() const { return impl_->state.params; }
 const EngineConstants& Engine::constants() const { return impl_->state.constants; }
 const DeviceChoices& Engine::choices() const { return impl_->state.choices; }
 std::string Engine::describe() const { return impl_->state.choices.describe(); }
-size_t Engine::size() const { return impl_->state.n; }
+size_t Engine::size() const { return impl_->state.n + impl_->state.hold.out; }
 uint64_t Engine::steps_done() const { return impl_->state.steps; }
 
 void Engine::set_field(const ScalarGrid& field) { set_field(field, false); }
@@ -82,6 +82,7 @@ void Engine::set_field(const ScalarGrid& field, bool borrow) {
 }
 
 size_t Engine::add_particles(const std::vector<Particle>& particles) {
+  release_hold();  // (after the others)
   EngineState& s = impl_->state;
   const size_t first = s.n;
   if (particles.empty()) return first;
@@ -114,6 +115,7 @@ size_t Engine::add_particles(const std::vector<Particle>& particles) {
 }
 
 void Engine::remove_particles(std::vector<size_t> indices) {
+  release_hold();  // (a swap with the last of all)
   EngineState& s = impl_->state;
   std::sort(indices.begin(), indices.end(), std::greater<size_t>());
   indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
@@ -190,14 +192,15 @@ std::vector<StepRecord> Engine::read_history() {
 
 std::vector<Particle> Engine::read_particles() {
   const EngineState& s = impl_->state;
+  const size_t count = size();
   std::vector<cl_float4> xs, vs;
-  s.particles.read(s.n, xs, vs);
-  std::vector<Particle> out(s.n);
-  for (size_t i = 0; i < s.n; ++i) {
+  s.particles.read(count, xs, vs);
+  std::vector<Particle> out(count);
+  for (size_t i = 0; i < count; ++i) {
     out[i].position = {xs[i].s[0], xs[i].s[1], xs[i].s[2]};
     out[i].radius = xs[i].s[3];
     out[i].velocity = {vs[i].s[0], vs[i].s[1], vs[i].s[2]};
-    out[i].mass = 1.0 / vs[i].s[3];
+    out[i].mass = 1.0 / (i < s.n && s.hold.active ? s.hold.inverse_mass[i] : vs[i].s[3]);
     out[i].id = s.particles.ids[i];
   }
   return out;
@@ -214,11 +217,24 @@ std::vector<size_t> Engine::sort_by_cells() {
   std::sort(keyed.begin(), keyed.end());  // (key, old index): ties keep their order
   std::vector<size_t> order(s.n);
   for (size_t k = 0; k < s.n; ++k) order[k] = keyed[k].second;
-  s.particles.permute(order, xs, vs);
+  s.particles.permute(order, xs, vs);  // (in a hold: those taking part, among themselves)
+  if (s.hold.active) {
+    std::vector<cl_float> own(s.n);
+    for (size_t k = 0; k < s.n; ++k) own[k] = s.hold.inverse_mass[order[k]];
+    s.hold.inverse_mass = std::move(own);
+    for (size_t k = s.n; k < size(); ++k) order.push_back(k);
+  }
   s.lists.valid = false;  // the next step rebuilds every list
   s.lists.newcomers.clear();
   return order;
 }
+
+std::optional<size_t> Engine::hold(const std::function<StepPart(const Vec3&)>& part_of) {
+  release_hold();
+  return hold_particles(impl_->state, part_of);
+}
+
+void Engine::release_hold() { release_particles(impl_->state); }
 
 std::vector<size_t> Engine::flagged_particles() { return impl_->state.particles.flagged(impl_->state.n); }
 

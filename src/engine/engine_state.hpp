@@ -12,6 +12,7 @@
 #include "engine/cell_grid.hpp"
 #include "engine/device_array.hpp"
 #include "engine/device_field.hpp"
+#include "engine/engine_hold.hpp"
 #include "engine/neighbour_lists.hpp"
 #include "engine/particle_arrays.hpp"
 #include "engine/step_history.hpp"
@@ -31,13 +32,14 @@ struct EngineState {
   DeviceChoices choices;      // the automatic settings made for the device
   EngineParams params;        // as given, with the skin made the chosen one
   EngineConstants constants;  // derived from `params`
-  size_t n = 0;               // particles
+  size_t n = 0;               // particles (while a hold is on: those taking part; hold.out more follow them)
   cl_uint level_mask = 0;     // the cell levels a particle added so far fell in (a bit each; kernels skip others)
   uint64_t steps = 0;         // steps enqueued
   ParticleArrays particles;
   NeighbourLists lists;       // the lists, their request words, the births linked in
   CellGrid cells;             // the grid the lists are built from
   DeviceField wall;           // the distance field the wall kernels sample
+  HoldState hold;             // ParticleEngine::hold
   DeviceArray<cl_float8> fire;  // the FIRE state (params.fire), one for each of two steps in turn (common.cl)
   std::unique_ptr<StepHistory> records;  // made with the form's finalize_history kernel
   std::vector<std::pair<std::string, cl::Event>> events;

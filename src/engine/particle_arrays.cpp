@@ -38,6 +38,8 @@ void ParticleArrays::write(size_t first, const std::vector<cl_float4>& xs, const
   clearance.write(first, std::vector<cl_float>(xs.size(), 0.0f));
 }
 
+void ParticleArrays::write_velocities(size_t first, const std::vector<cl_float4>& vs) { V[cur].write(first, vs); }
+
 void ParticleArrays::read(size_t count, std::vector<cl_float4>& xs, std::vector<cl_float4>& vs) const {
   X[cur].read(count, xs, false);
   V[cur].read(count, vs, true);
@@ -49,7 +51,7 @@ void ParticleArrays::permute(const std::vector<size_t>& order, const std::vector
   const std::vector<cl_uint> f = flags.read(n);
   std::vector<cl_float4> xs2(n), vs2(n);
   std::vector<cl_uint> f2(n);
-  std::vector<uint64_t> ids2(n);
+  std::vector<uint64_t> ids2 = ids;  // (an order of the first n only leaves the rest's ids)
   for (size_t k = 0; k < n; ++k) {
     const size_t i = order[k];
     xs2[k] = xs[i];

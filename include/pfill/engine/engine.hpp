@@ -103,6 +103,16 @@ class Engine final : public ParticleEngine {
   /// new index -> old index.
   std::vector<size_t> sort_by_cells() override;
 
+  /// ParticleEngine::hold: the particles taking part are renumbered first
+  /// (each part in its order) and stepped alone, the held ones at rest
+  /// with a mass of 1e30; the others follow them, untouched. size() and
+  /// read_particles() count them all (with their own masses); a sort
+  /// renumbers those taking part among themselves; an addition or removal
+  /// releases the hold first. The lists are rebuilt at the next step.
+  std::optional<size_t> hold(const std::function<StepPart(const Vec3&)>& part_of) override;
+  /// Every particle steps again, with its own mass (blocking).
+  void release_hold() override;
+
   /// Indices of particles flagged outside the field since the last
   /// clear_flags() (a flag moves with its particle on removal).
   std::vector<size_t> flagged_particles() override;
