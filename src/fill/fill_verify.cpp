@@ -16,11 +16,15 @@ constexpr int kMostExactHoles = 32;
 
 /// Holes the field hid (near the wall) or the repair opened take a sphere
 /// where, by exact distances, one fits inside without overlap (a hole fits
-/// a sphere at the rest distance: 2r, or more for sparse fills). Equal
-/// spheres: the widest hole, then a new search. Unequal ones (of a class
-/// short of its share that fits; none: the distribution comes first): every
-/// distinct hole one search found that still fits, then a new search, as a
-/// search at the smallest radius costs many times an equal fill's. Returns
+/// a sphere at the rest distance: 2r, or more for sparse fills). Each
+/// search's distinct holes that still fit, then a new search (a search
+/// reads every sphere: at 1e6, whose coarse field left 4 such holes, one
+/// at a time took five in a verify of 34-44 s). Equal spheres: only holes no sphere of this round
+/// came near (the next search may find such a one wider elsewhere), so
+/// they fill as one hole a search did. Unequal ones (of a class short of
+/// its share that fits; none: the distribution comes first): every hole
+/// that still fits, as a search at the smallest radius costs many times an
+/// equal fill's. Returns
 /// the widest hole left. Held in parts: every process walks the same holes
 /// (of all processes) alike, on the size classes' counts summed over the
 /// processes and the spheres this round placed on any, and the one whose
@@ -35,10 +39,12 @@ Hole fill_exact_holes(const Boundary& boundary, double radius, std::optional<Siz
   while (o.hole_rounds > 0 && filled < kMostExactHoles) {
     ParticleSet placed;  // this round's spheres, on every process
     if (deficit) deficit->recount(particles.radii, particles.size(), *share.group);
-    for (size_t k = 0; k < (deficit ? holes.size() : 1) && filled < kMostExactHoles; ++k) {
-      double gap = holes[k].gap_over_r * radius;  // (less any sphere this round put near it)
+    for (size_t k = 0; k < holes.size() && filled < kMostExactHoles; ++k) {
+      const double found = holes[k].gap_over_r * radius;
+      double gap = found;  // (less any sphere this round put near it)
       for (size_t m = 0; m < placed.size(); ++m)
         gap = std::min(gap, length(placed.positions[m] - holes[k].centre) - placed.radii[m]);
+      if (!deficit && gap < found) continue;
       const double depth = -boundary.signed_distance(holes[k].centre);
       if (gap < (2 * o.rest_distance - 1) * radius || depth < radius) continue;
       double r = radius;
