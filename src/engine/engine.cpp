@@ -217,7 +217,7 @@ std::vector<size_t> Engine::sort_by_cells() {
   std::sort(keyed.begin(), keyed.end());  // (key, old index): ties keep their order
   std::vector<size_t> order(s.n);
   for (size_t k = 0; k < s.n; ++k) order[k] = keyed[k].second;
-  s.particles.permute(order, xs, vs);  // (in a hold: those taking part, among themselves)
+  s.particles.permute(order, std::move(xs), std::move(vs));  // (in a hold: those taking part, among themselves)
   if (s.hold.active) {
     std::vector<cl_float> own(s.n);
     for (size_t k = 0; k < s.n; ++k) own[k] = s.hold.inverse_mass[order[k]];

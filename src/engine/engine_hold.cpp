@@ -1,6 +1,8 @@
 // The OpenCL engine's hold (engine_hold.hpp).
 #include "engine/engine_hold.hpp"
 
+#include <utility>
+
 #include "engine/engine_state.hpp"
 
 namespace pfill {
@@ -25,7 +27,7 @@ size_t hold_particles(EngineState& s, const std::function<ParticleEngine::StepPa
   }
   const size_t taking = order.size();
   order.insert(order.end(), out.begin(), out.end());
-  s.particles.permute(order, xs, vs);
+  s.particles.permute(order, std::move(xs), std::move(vs));
   s.hold.active = true;
   s.hold.out = out.size();
   s.hold.inverse_mass = std::move(own);

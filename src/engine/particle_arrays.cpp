@@ -45,26 +45,41 @@ void ParticleArrays::read(size_t count, std::vector<cl_float4>& xs, std::vector<
   V[cur].read(count, vs, true);
 }
 
-void ParticleArrays::permute(const std::vector<size_t>& order, const std::vector<cl_float4>& xs,
-                             const std::vector<cl_float4>& vs) {
-  const size_t n = order.size();
-  const std::vector<cl_uint> f = flags.read(n);
-  std::vector<cl_float4> xs2(n), vs2(n);
-  std::vector<cl_uint> f2(n);
-  std::vector<uint64_t> ids2 = ids;  // (an order of the first n only leaves the rest's ids)
-  for (size_t k = 0; k < n; ++k) {
-    const size_t i = order[k];
-    xs2[k] = xs[i];
-    vs2[k] = vs[i];
-    f2[k] = f[i];
-    ids2[k] = ids[i];
+namespace {
+
+// v[k] becomes v[order[k]] for k < order.size(), in place, cycle by cycle
+// (copies of the state cost 48 MB at 1e6, on top of the engine's).
+template <typename T>
+void permute_in_place(std::vector<T>& v, const std::vector<size_t>& order, std::vector<bool>& done) {
+  done.assign(order.size(), false);
+  for (size_t start = 0; start < order.size(); ++start) {
+    if (done[start]) continue;
+    const T first = v[start];
+    size_t k = start;
+    for (; order[k] != start; k = order[k]) {
+      v[k] = v[order[k]];
+      done[k] = true;
+    }
+    v[k] = first;
+    done[k] = true;
   }
-  X[cur].write(0, xs2, false);
-  V[cur].write(0, vs2, false);
-  flags.write(0, f2, true);
+}
+
+}  // namespace
+
+void ParticleArrays::permute(const std::vector<size_t>& order, std::vector<cl_float4> xs, std::vector<cl_float4> vs) {
+  const size_t n = order.size();
+  std::vector<cl_uint> f = flags.read(n);
+  std::vector<bool> done;
+  permute_in_place(xs, order, done);
+  permute_in_place(vs, order, done);
+  permute_in_place(f, order, done);
+  permute_in_place(ids, order, done);  // (an order of the first n only leaves the rest's ids)
+  X[cur].write(0, xs, false);
+  V[cur].write(0, vs, false);
+  flags.write(0, f, true);
   // Wall clearances are lower bounds, a cache: 0 makes the next step sample the field.
   if (n > 0) clearance.fill(0.0f, 0, n);
-  ids = std::move(ids2);
 }
 
 std::vector<size_t> ParticleArrays::flagged(size_t count) const {

@@ -27,9 +27,10 @@ class ParticleArrays {
   /// The current X and V of the first `count` particles (blocking).
   void read(size_t count, std::vector<cl_float4>& xs, std::vector<cl_float4>& vs) const;
   /// The particles reordered: new index k holds old order[k]; xs and vs
-  /// are their current X and V (read()). An order of the first
-  /// order.size() particles leaves the others as they are. Blocking.
-  void permute(const std::vector<size_t>& order, const std::vector<cl_float4>& xs, const std::vector<cl_float4>& vs);
+  /// are their current X and V (read(); moved in: permuted in place). An
+  /// order of the first order.size() particles leaves the others as they
+  /// are. Blocking.
+  void permute(const std::vector<size_t>& order, std::vector<cl_float4> xs, std::vector<cl_float4> vs);
   /// Indices of the flagged particles among the first `count`.
   std::vector<size_t> flagged(size_t count) const;
 

@@ -12,8 +12,10 @@
 // (FinishSettings::removal_share, fire_removal_share), and one in each of the most pressed tenth of the jams,
 // never two touching ones in a round, and the relaxation runs again.
 // The last few jams of a large packing relax on their own: only the
-// spheres near them move, on an engine of their own (a relaxation of all N
-// for a few hundred pairs cost spot at 1e6 a quarter of its fill).
+// spheres near them move, the engine holding the rest (ParticleEngine::hold;
+// an engine that cannot hold relaxes them on an engine of their own): a
+// relaxation of all N for a few hundred pairs cost spot at 1e6 a quarter
+// of its fill.
 // Holes the relaxed packing leaves get a sphere, relaxed in, while a
 // round finds enough; then every hole a sphere fits without overlap gets
 // one as it is. If the rounds run out, one sphere of each pair still over
@@ -401,7 +403,8 @@ class Finisher {
       e.share_field(field_);
   }
 
-  /// Relaxes only the spheres within `near_reach` r of a place in `hot_`,
+  /// For an engine that cannot hold (both of pfill's can): relaxes only the
+  /// spheres within `near_reach` r of a place in `hot_`,
   /// with those up to `hold` further held still (as good as infinite
   /// mass), on an engine of their own; then the main engine takes them
   /// back. One engine at a time: each holds a cell grid over the field's
