@@ -78,6 +78,31 @@ void check_pair_as_reference(Engine& engine, const ReferenceEngine& ref) {
   }
 }
 
+// The engine and the reference on the same particles and field, stepped together.
+struct EngineAndReference {
+  Engine engine;
+  ReferenceEngine ref;
+  EngineAndReference(const EngineParams& p, const ScalarGrid& field, const std::vector<Particle>& ps)
+      : engine(shared_device(), p), ref(p) {
+    engine.set_field(field);
+    ref.set_field(field);
+    engine.add_particles(ps);
+    ref.add_particles(ps);
+  }
+  void step(int steps) {
+    engine.run_steps(static_cast<size_t>(steps));
+    for (int s = 0; s < steps; ++s) ref.step();
+  }
+  /// After `steps` more steps, the engine's particles are where the reference has them.
+  void check_steps(int steps) {
+    step(steps);
+    auto [dx, dv] = max_difference(engine.read_particles(), ref.particles());
+    INFO("after " << steps << " more steps");
+    CHECK(dx < 1e-4);
+    CHECK(dv < 1e-2);
+  }
+};
+
 }  // namespace
 
 TEST_CASE("engine: the force between two particles is the analytic derivative of the potential") {
@@ -420,27 +445,14 @@ TEST_CASE("engine: removals and births in a dense system keep the neighbour list
   auto ps = random_particles(300, 0.5, 3, 0.9, 1.0, 17, [h](const Vec3& x) { return box_distance(x, h); });
   const Particle newcomer = ps.back();
   ps.pop_back();
-  Engine engine(shared_device(), p);
-  ReferenceEngine ref(p);
-  engine.set_field(field);
-  ref.set_field(field);
-  engine.add_particles(ps);
-  ref.add_particles(ps);
-  engine.run_steps(2);  // lists built: what follows updates them in place
-  for (int s = 0; s < 2; ++s) ref.step();
+  EngineAndReference both(p, field, ps);
+  both.step(2);  // lists built: what follows updates them in place
   const std::vector<size_t> gone = {5, 77, ps.size() - 1, 150, 151};
-  engine.remove_particles(gone);
-  ref.remove_particles(gone);
-  engine.add_particle(newcomer);
-  ref.add_particles({newcomer});
-  for (int steps : {1, 3}) {  // before any skin-triggered rebuild could repair a stale list
-    engine.run_steps(steps);
-    for (int s = 0; s < steps; ++s) ref.step();
-    auto [dx, dv] = max_difference(engine.read_particles(), ref.particles());
-    INFO("after " << steps << " more steps");
-    CHECK(dx < 1e-4);
-    CHECK(dv < 1e-2);
-  }
+  both.engine.remove_particles(gone);
+  both.ref.remove_particles(gone);
+  both.engine.add_particle(newcomer);
+  both.ref.add_particles({newcomer});
+  for (int steps : {1, 3}) both.check_steps(steps);  // before any skin-triggered rebuild could repair a stale list
 }
 
 TEST_CASE("engine: many removals at once rebuild the lists at the next step, and the physics stays right") {
@@ -448,32 +460,19 @@ TEST_CASE("engine: many removals at once rebuild the lists at the next step, and
   const Vec3 h{3, 3, 3};
   const ScalarGrid field = box_grid(h, 0.2);
   const auto ps = random_particles(300, 0.5, 3, 0.9, 1.0, 29, [h](const Vec3& x) { return box_distance(x, h); });
-  Engine engine(shared_device(), p);
-  ReferenceEngine ref(p);
-  engine.set_field(field);
-  ref.set_field(field);
-  engine.add_particles(ps);
-  ref.add_particles(ps);
-  engine.run_steps(3);  // lists built, and no drift has asked for another build yet
-  for (int s = 0; s < 3; ++s) ref.step();
-  engine.read_history();
   REQUIRE(ps.size() > 100);
+  EngineAndReference both(p, field, ps);
+  both.step(3);  // lists built, and no drift has asked for another build yet
+  both.engine.read_history();
   std::vector<size_t> gone;
   for (size_t k = 0; k < 30; ++k) gone.push_back(3 * k + 2);  // (more than are edited in place)
   gone.push_back(ps.size() - 1);
-  engine.remove_particles(gone);
-  ref.remove_particles(gone);
-  REQUIRE(engine.size() == ps.size() - gone.size());
-  for (int steps : {1, 3}) {
-    engine.run_steps(steps);
-    for (int s = 0; s < steps; ++s) ref.step();
-    const std::vector<StepRecord> h1 = engine.read_history();
-    if (steps == 1) CHECK(h1.front().lists_rebuilt);
-    auto [dx, dv] = max_difference(engine.read_particles(), ref.particles());
-    INFO("after " << steps << " more steps");
-    CHECK(dx < 1e-4);
-    CHECK(dv < 1e-2);
-  }
+  both.engine.remove_particles(gone);
+  both.ref.remove_particles(gone);
+  REQUIRE(both.engine.size() == ps.size() - gone.size());
+  both.check_steps(1);
+  CHECK(both.engine.read_history().front().lists_rebuilt);
+  both.check_steps(3);
 }
 
 TEST_CASE("engine: the same input gives bit-identical particles (births and removals included)") {
