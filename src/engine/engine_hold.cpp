@@ -23,7 +23,7 @@ size_t hold_particles(EngineState& s, const std::function<ParticleEngine::StepPa
     }
     order.push_back(i);
     own.push_back(vs[i].s[3]);
-    if (part == Part::held) vs[i] = cl_float4{{0.0f, 0.0f, 0.0f, kHeldInverseMass}};  // (at rest: a speed would move it)
+    if (part == Part::held) vs[i] = cl_float4{{0.0f, 0.0f, 0.0f, kHeldInverseMass}};  // (at rest: a speed moves it)
   }
   const size_t taking = order.size();
   order.insert(order.end(), out.begin(), out.end());

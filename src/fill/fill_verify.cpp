@@ -19,12 +19,12 @@ constexpr int kMostExactHoles = 32;
 /// a sphere at the rest distance: 2r, or more for sparse fills). Each
 /// search's distinct holes that still fit, then a new search (a search
 /// reads every sphere: at 1e6, whose coarse field left 4 such holes, one
-/// at a time took five in a verify of 34-44 s). Equal spheres: only holes no sphere of this round
-/// came near (the next search may find such a one wider elsewhere), so
-/// they fill as one hole a search did. Unequal ones (of a class short of
-/// its share that fits; none: the distribution comes first): every hole
-/// that still fits, as a search at the smallest radius costs many times an
-/// equal fill's. Returns
+/// at a time took five in a verify of 34-44 s). Equal spheres: only holes
+/// no sphere of this round came near (the next search may find such a one
+/// wider elsewhere), so they fill as one hole a search did. Unequal ones
+/// (of a class short of its share that fits; none: the distribution comes
+/// first): every hole that still fits, as a search at the smallest radius
+/// costs many times an equal fill's. Returns
 /// the widest hole left. Held in parts: every process walks the same holes
 /// (of all processes) alike, on the size classes' counts summed over the
 /// processes and the spheres this round placed on any, and the one whose
