@@ -13,7 +13,7 @@
 // never two touching ones in a round, and the relaxation runs again.
 // The last few jams of a large packing relax on their own: only the
 // spheres near them move, the engine holding the rest (ParticleEngine::hold;
-// an engine that cannot hold relaxes them on an engine of their own): a
+// one that cannot, the C++ reference, relaxes them on an engine of their own): a
 // relaxation of all N for a few hundred pairs cost spot at 1e6 a quarter
 // of its fill.
 // Holes the relaxed packing leaves get a sphere, relaxed in, while a
@@ -403,7 +403,7 @@ class Finisher {
       e.share_field(field_);
   }
 
-  /// For an engine that cannot hold (both of pfill's can): relaxes only the
+  /// For an engine that cannot hold (the C++ reference engine): relaxes only the
   /// spheres within `near_reach` r of a place in `hot_`,
   /// with those up to `hold` further held still (as good as infinite
   /// mass), on an engine of their own; then the main engine takes them
