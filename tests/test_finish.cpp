@@ -102,6 +102,29 @@ TEST_CASE("finish: an over-full ball forces deletions, which are counted, and th
   }
 }
 
+TEST_CASE("finish: the relaxation's inner lists give the same spheres, bit for bit, as its full lists") {
+  // An over-full ball (as below): relaxations, deletions and hole rounds,
+  // with every pair the inner lists leave out checked by the result: a pair
+  // missed would move some sphere, and every later step with it.
+  const std::vector<Particle> ps = lattice(1.5 * kR, kBall - kR);
+  FinishSettings s = settings(0.001);
+  FinishStats inner_stats, full_stats;
+  s.inner_lists = true;
+  const ParticleSet inner = finish_packing(shared_device(), base_params(), ball_field(), ps, s, inner_stats);
+  s.inner_lists = false;
+  const ParticleSet full = finish_packing(shared_device(), base_params(), ball_field(), ps, s, full_stats);
+  CHECK(inner_stats.removed > 0);
+  CHECK(inner_stats.steps == full_stats.steps);
+  REQUIRE(inner.size() == full.size());
+  for (size_t i = 0; i < inner.size(); ++i) {
+    CAPTURE(i);
+    CHECK(inner.ids[i] == full.ids[i]);
+    CHECK(inner.positions[i].x == full.positions[i].x);
+    CHECK(inner.positions[i].y == full.positions[i].y);
+    CHECK(inner.positions[i].z == full.positions[i].z);
+  }
+}
+
 TEST_CASE("finish: FIRE reaches the bound on an over-full packing in fewer steps than the damped relaxation") {
   // Spacing 1.5 r throughout the ball (as above): a packing of 0.9, every
   // neighbour overlapping by half of r. Holes left alone: the relaxations

@@ -78,6 +78,7 @@ class Finisher {
     EngineParams p = base;
     p.cutoff_sigma = 0;  // purely repulsive: attraction would pull spheres together
     p.births_at_speed = false;  // a relaxation: the lists stay fresh longer
+    if (s.inner_lists) p.inner_lists = InnerLists::on;  // (FinishSettings::inner_lists)
     p.rest_distance = 2 * s.radius * (1 + inflation);
     p.max_radius = std::max(base.max_radius, s.radius * (1 + 1e-6));
     p.restitution = 0;

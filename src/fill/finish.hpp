@@ -41,6 +41,12 @@ struct FinishSettings {
   /// overlapping pairs restarted it every few steps; see docs/finish.md).
   double fire_time_step = 0.01;
   double fire_dt_max = 8;
+  /// The relaxation's engine prunes inner lists (EngineParams::inner_lists,
+  /// the `cpu` form's): its spheres move little, so a pruning is rarely due
+  /// and the pair loop reads the few partners in contact, not every entry
+  /// within the skin. The same spheres either way, faster, for a second
+  /// buffer the size of the lists (the fill: up to 250,000 spheres).
+  bool inner_lists = true;
   double damping = 0.01;        ///< damped dynamics: share of every velocity lost each step (little: inertia crosses the soft modes faster)
   int chunk_steps = 100;        ///< relaxation steps between reads of the step history
   uint64_t relax_steps = 1500;  ///< most steps of one relaxation (it stops earlier when the spheres stall; one still improving at the end runs again, a round of its own)
