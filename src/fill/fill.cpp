@@ -54,7 +54,7 @@ constexpr double kCompressClearance = 1.7;
 // The finish's inner lists (FinishSettings::inner_lists) up to this many
 // spheres: their buffer is the size of the lists (~290 MiB at 1e6, where
 // it took the fill's peak from 1,346 to 1,639 MiB for a 6% faster pair
-// loop); at 1e5 ~30 MiB for 9-16% (docs/benchmarks.md).
+// loop); at 1e5 ~30 MiB for ~9%, at 16,000 ~12% (docs/benchmarks.md).
 constexpr double kFinishInnerListsMost = 250000;
 
 // PFILL_PROFILE=1 (any value but empty or 0): the fill's queue profiles
