@@ -268,6 +268,66 @@ __attribute__((always_inline)) void pf_queue_push(pf_queue* q, uint i, float4 xi
 }
 #endif
 
+/* A list row being rebuilt (pair_forces): where the rows go and what a
+ * rebuild records of each particle. */
+typedef struct {
+  __global uint* list;
+  __global uint* list_count;
+  __global uint2* spans;
+  __global float4* XREF;
+  __global uint* build_bits;
+  uint next_row; /* with PF_NEWTON, the next packed row's first word */
+} pf_rebuild;
+
+/* list_count's mark of a row not yet rebuilt on a step that rebuilds */
+#define PF_UNBUILT UINT_MAX
+
+/* Rebuilds particle i's row (at level-0 cell c) from the stencil of its cell. */
+void pf_rebuild_row(pf_rebuild* b, uint i, float4 xi, int4 c, const pf_stencil* st, __global const uint* counts,
+                    __global const float* slots, int4 cell_dims, uint level_mask) {
+#if PF_NEWTON
+  __global uint* row = b->list + b->next_row;
+#else
+  __global uint* row = PF_ROW(b->list, i);
+#endif
+  uint bits = 0u;
+  const uint count = pf_build_list(i, xi, st, counts, slots, c, cell_dims, level_mask, row, &bits);
+  b->list_count[i] = count;
+#if PF_NEWTON
+  const uint room = min(count + PF_ROW_SLACK, PF_LIST_CAP);
+  b->spans[i] = (uint2)(b->next_row, room);
+  b->next_row += room;
+#endif
+  b->XREF[i] = xi;
+  b->build_bits[i] = bits;
+}
+
+/* Rebuilds the rows of the particles of st's cell in (i, end) from st, so
+ * that the stencil is gathered once a cell, not once for each run of the
+ * cell in index order (after Engine::sort_by_cells the particles stray
+ * from their cells' runs within a few steps; measured 1.7 particles a
+ * gather in pass 1 at 1e5, ~6 a cell). A row is the same whoever builds
+ * it, and the forces still sum in index order. */
+void pf_rebuild_cell_mates(pf_rebuild* b, uint i, uint end, const pf_stencil* st, __global const float4* X,
+                           __global const uint* counts, __global const float* slots, float4 cell_origin,
+                           float4 cell_inv, int4 cell_dims, uint level_mask, float ri) {
+  if (pf_no_block(slots, st->cell)) return;
+#if PF_LEVELS > 1
+  const uint cap = pf_level_of(ri) == 0u ? PF_CELL_CAP : PF_CELL_CAP_UP;
+#else
+  const uint cap = PF_CELL_CAP;
+#endif
+  const uint m = min(counts[st->cell], cap); /* (the overflowed rest: each builds at its own turn) */
+  __global const float* block = slots + pf_block_at(slots, st->cell);
+  for (uint k = 0; k < m; ++k) {
+    const uint j = as_uint(block[PF_SLOT(k, 4u)]);
+    if (j <= i || j >= end) continue;
+    const float4 xj = X[j];
+    pf_rebuild_row(b, j, xj, pf_cell_of(xj, cell_origin, cell_inv, cell_dims), st, counts, slots, cell_dims,
+                   level_mask);
+  }
+}
+
 /* The pair forces of a step on CPU devices, before `advance` (which adds
  * them up). Work-group w of W (one work-item each) takes particles
  * [w B, (w + 1) B), B = ceil(n / W), in order. With PF_NEWTON it sums
@@ -277,8 +337,9 @@ __attribute__((always_inline)) void pf_queue_push(pf_queue* q, uint i, float4 xi
  * forces it changed there (its block and the partners it wrote to, mostly
  * just past the block), so that `advance` reads and clears only those of
  * the W buffers; without, it writes its particles' forces into F.
- * On the steps that rebuild the lists, each of those particles' lists is
- * rebuilt first; build_bits keeps the overflow bit for `advance`. Rows
+ * On the steps that rebuild the lists, each particle's list is rebuilt
+ * before its forces, with those of its cell's later particles in the block
+ * (pf_rebuild_cell_mates); build_bits keeps the overflow bit for `advance`. Rows
  * filled by birth_linked's atomics (at most 4 newcomers, in sort_rows)
  * are sorted first, so that forces sum in one order. */
 __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
@@ -316,19 +377,14 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
    * next step prune), so the pair loop streams them. */
   __global uint* inner_next = PF_ROW(inner_list, w * per);
 #endif
-#if PF_NEWTON
   /* a rebuild packs the block's rows from its first PF_ROW_STRIDE words on */
-  uint next_row = w * per * PF_ROW_STRIDE;
-#endif
+  pf_rebuild b = {list, list_count, spans, XREF, build_bits, w * per * PF_ROW_STRIDE};
+  if (rebuild)
+    for (uint i = w * per; i < end; ++i) list_count[i] = PF_UNBUILT;
   for (uint i = w * per; i < end; ++i) {
     const float4 xi = X[i];
-#if PF_NEWTON
-    __global uint* row = list + (rebuild ? next_row : spans[i].x);
-#else
-    __global uint* row = PF_ROW(list, i);
-#endif
     uint count, touching; /* touching: entries that may touch i come first (pf_prune_row) */
-    if (rebuild) {
+    if (rebuild && list_count[i] == PF_UNBUILT) {
       const int4 c = pf_cell_of(xi, cell_origin, cell_inv, cell_dims);
       const uint cell = pf_stencil_key(xi.w, c, cell_dims);
       if (st[newest].cell != cell) {
@@ -336,18 +392,13 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
         if (st[newest].cell != cell)
           pf_stencil_gather(&st[newest], counts + cell_base, slots, c, xi.w, cell_dims, cell_inv.x, level_mask);
       }
-      uint bits = 0u;
-      count = pf_build_list(i, xi, &st[newest], counts + cell_base, slots, c, cell_dims, level_mask, row, &bits);
-      list_count[i] = count;
-#if PF_NEWTON
-      const uint room = min(count + PF_ROW_SLACK, PF_LIST_CAP);
-      spans[i] = (uint2)(next_row, room);
-      next_row += room;
-#endif
-      XREF[i] = xi;
-      build_bits[i] = bits;
-    } else {
-      count = min(list_count[i], PF_LIST_CAP);
+      pf_rebuild_row(&b, i, xi, c, &st[newest], counts + cell_base, slots, cell_dims, level_mask);
+      pf_rebuild_cell_mates(&b, i, end, &st[newest], X, counts + cell_base, slots, cell_origin, cell_inv, cell_dims,
+                            level_mask, xi.w);
+    }
+    __global uint* row = PF_LIST_ROW(list, spans, i);
+    count = min(list_count[i], PF_LIST_CAP);
+    if (!rebuild) {
       const int4 newcomer = (int4)((int)i) == sort_rows; /* (PoCL makes four branches of any()) */
       if ((newcomer.x | newcomer.y | newcomer.z | newcomer.w) != 0) pf_sort_row(row, count);
     }
