@@ -226,6 +226,10 @@ typedef struct {
 void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell, __global const float* block,
                           uint cap, bool sorted) {
   const uint m = pf_cell_listed_cap(counts, cell, cap, &st->bits), at = st->count;
+  /* whether the cell's entries are out of index order (most cells are in
+   * order: insert_cells's work-items fill them from runs of the particles) */
+  int8 disorder = (int8)(0);
+  uint before = 0u; /* the last entry of the chunk before */
   for (uint k = 0; k < m; k += 8u) { /* whole chunks; the lanes past m are overwritten or never read */
     __global const float* chunk = block + 5u * k;
     vstore8(vload8(0, chunk), 0, st->x + at + k);
@@ -234,9 +238,15 @@ void pf_stencil_add_block(pf_stencil* st, __global const uint* counts, uint cell
 #if PF_POLY
     vstore8(vload8(3, chunk), 0, st->r + at + k);
 #endif
-    vstore8(as_uint8(vload8(4, chunk)) << 4u, 0, st->e + at + k);
+    const uint8 e = as_uint8(vload8(4, chunk));
+    vstore8(e << 4u, 0, st->e + at + k);
+    const uint8 previous = (uint8)(before, e.s0, e.s1, e.s2, e.s3, e.s4, e.s5, e.s6);
+    const uint8 lane = (uint8)(0u, 1u, 2u, 3u, 4u, 5u, 6u, 7u) + (uint8)(k);
+    disorder |= (previous > e) & (lane < (uint8)(m)) & (lane > (uint8)(0u));
+    before = e.s7;
   }
-  for (uint k = sorted ? at + 1u : at + m; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
+  const bool sort = sorted && any(disorder);
+  for (uint k = sort ? at + 1u : at + m; k < at + m; ++k) { /* insertion sort: the cells are nearly in order */
     const uint e = st->e[k];
     const float x = st->x[k], y = st->y[k], z = st->z[k];
 #if PF_POLY
