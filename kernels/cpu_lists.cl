@@ -180,10 +180,10 @@ uint pf_prune_row(uint i, float4 xi, __global const uint* row, uint count, __glo
 }
 
 /* The candidates of the CPU form's list builds for the particles of one
- * cell: the particles of the cells of its stencil, copied once for the run
- * of consecutive particles in that cell (as the particles lie after
- * Engine::sort_by_cells) into contiguous arrays, so that each particle's
- * build is one pass of 8-lane loads over them. With PF_NEWTON the stencil
+ * cell: the particles of the cells of its stencil, copied once for all of
+ * the cell's particles in a pair_forces block (pf_rebuild_cell_mates) into
+ * contiguous arrays, so that each particle's build is one pass of 8-lane
+ * loads over them. With PF_NEWTON the stencil
  * is half: the cell itself (its particles first, [0, own), partners j > i
  * only) and the 13 cells after it in (z, y, x) order, so a pair of cells
  * meets once; without, all 27 in (z, y, x) order. Each cell's particles are
