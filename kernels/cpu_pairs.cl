@@ -313,7 +313,7 @@ void pf_rebuild_cell_mates(pf_rebuild* b, uint i, uint end, const pf_stencil* st
                            float4 cell_inv, int4 cell_dims, uint level_mask, float ri) {
   if (pf_no_block(slots, st->cell)) return;
 #if PF_LEVELS > 1
-  const uint cap = pf_level_of(ri) == 0u ? PF_CELL_CAP : PF_CELL_CAP_UP;
+  const uint cap = pf_level_at(cell_dims, pf_level_of(ri)).cap; /* (the cell's level's) */
 #else
   const uint cap = PF_CELL_CAP;
 #endif
