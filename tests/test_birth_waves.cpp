@@ -235,6 +235,33 @@ TEST_CASE("births in waves fill a sphere: inside, overlaps within the bound, abo
   CHECK(r.stop_signal == "blocked");
 }
 
+TEST_CASE("pass 1 ends max_overfill over the expected count: less for the finish to delete, as dense") {
+  const Mesh ball = make_icosphere(1.0, 4);
+  FillOptions open_ended = wave_fill(1500);
+  open_ended.max_overfill = -1;  // the blocked sites alone
+  const FillResult a = fill(ball, open_ended);
+  const FillResult b = fill(ball, wave_fill(1500));  // 0.5% over (the default)
+  const double cap = 1.005 * static_cast<double>(b.expected);
+  auto finish_steps = [](const FillResult& r) {
+    for (const PassStats& p : r.passes)
+      if (p.name == "finish") return p.steps;
+    return uint64_t(0);
+  };
+  INFO("after pass 1 " << a.max_parts + 1 << " and " << b.max_parts + 1 << " (cap " << cap << "); finish "
+                       << finish_steps(a) << " and " << finish_steps(b) << " steps; "
+                       << a.metrics.count << " and " << b.metrics.count << " spheres");
+  REQUIRE(static_cast<double>(a.max_parts + 1) > cap);  // the case: left alone, pass 1 overfills past the cap
+  CHECK(b.stop_reason.find("over the") != std::string::npos);
+  CHECK(static_cast<double>(b.max_parts + 1) >= cap);
+  CHECK(b.max_parts < a.max_parts);
+  CHECK(finish_steps(b) < finish_steps(a));  // fewer deletions to relax
+  for (const FillResult* r : {&a, &b}) {
+    CHECK(r->metrics.contained_share == 1.0);
+    CHECK(r->metrics.max_overlap <= open_ended.max_overlap + 1e-9);
+  }
+  CHECK(b.metrics.packing_fraction >= a.metrics.packing_fraction - 0.005);
+}
+
 TEST_CASE("room sites: the sparse start in fewer steps of pass 1, as many spheres, the same bounds") {
   FillOptions plain = wave_fill(1500);
   plain.room_spacing = 0;  // the sites alone

@@ -202,6 +202,7 @@ TEST_CASE("hostile numbers in the settings are refused by name before any work")
       {"birth_speed", [](FillOptions& o, double v) { o.birth_speed[1] = v; }},
       {"birth_clearance", [](FillOptions& o, double v) { o.birth_clearance = v; }},
       {"stop_share", [](FillOptions& o, double v) { o.stop_share = v; }},
+      {"max_overfill", [](FillOptions& o, double v) { o.max_overfill = v; }},
       {"max_overlap", [](FillOptions& o, double v) { o.max_overlap = v; }},
       {"hole_clearance", [](FillOptions& o, double v) { o.hole_clearance = v; }},
       {"containment_tolerance", [](FillOptions& o, double v) { o.containment_tolerance = v; }},
@@ -215,7 +216,7 @@ TEST_CASE("hostile numbers in the settings are refused by name before any work")
       const std::string name = c.name;
       // In range without a mesh (a birth point at -1, the automatic stop share),
       // or out of range only for a mesh (1e300 as radius, birth point, damping: the next test).
-      if ((v == -1.0 && (name == "birth" || name == "stop_share")) ||
+      if ((v == -1.0 && (name == "birth" || name == "stop_share" || name == "max_overfill")) ||
           (v == 1e300 && (name == "radius" || name == "birth" || name == "damping")))
         continue;
       FillOptions o;

@@ -58,6 +58,8 @@ void check_fill_options(const FillOptions& o) {
        "10,000,000");
   need(o.stop_share == -1 || (o.stop_share >= 0 && o.stop_share < 1),
        "stop_share must be in [0, 1), or -1 for automatic");
+  need(o.max_overfill == -1 || (o.max_overfill >= 0 && o.max_overfill <= 1),
+       "max_overfill must be in [0, 1], or -1 for none");
   need(std::isfinite(o.damping) && o.damping >= 0 && o.damping <= 1e6, "damping must be in [0, 1e6]");
   need(o.time_step == 0 || in(o.time_step, 1e-4, 0.05),
        "time_step must be 0 (automatic) or in [0.0001, 0.05] tau (smaller steps never finish)");

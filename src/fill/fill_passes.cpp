@@ -104,6 +104,11 @@ void FillPasses::pass1() {
   bs.patience = plan_.patience;
   bs.share = !plan_.waves ? 0 : o_.stop_share >= 0 ? o_.stop_share : o_.max_overlap < 0.01 ? 0.03 : 0.003;
   BlockedSitesTest blocked(bs);
+  // Waves of equal spheres under a tight bound end max_overfill over the
+  // expected count (FillOptions::max_overfill; 0 here: no such end).
+  const double overfill_cap = plan_.waves && !sizes_ && o_.max_overlap < 0.01 && o_.max_overfill >= 0
+                                  ? (1 + o_.max_overfill) * plan_.expected
+                                  : 0.0;
   reporter_.set_schedule(static_cast<size_t>(std::llround(plan_.expected)),
                          {plan_.waves, plan_.expected, static_cast<double>(bs.patience), bs.share,
                           static_cast<double>(o_.settle_steps)});
@@ -137,6 +142,12 @@ void FillPasses::pass1() {
       if (!overfull && sizes_ && sizes_->all_capped()) {
         overfull = true;
         stop("blocked", "every size class reached its share of the largest spheres placed");
+      }
+      if (!overfull && overfill_cap > 0 && static_cast<double>(engine_.size()) >= overfill_cap) {
+        overfull = true;
+        stop("blocked", short_number(static_cast<double>(engine_.size())) + " particles, at least " +
+                            short_number(100 * o_.max_overfill) + "% over the ~" + short_number(plan_.expected) +
+                            " expected: later births would only overfill what the finish deletes");
       }
       // The blocked-sites test always runs: it ends the pass when the
       // report's tests never fire (a prototype found they rarely do).

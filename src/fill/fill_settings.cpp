@@ -221,6 +221,9 @@ std::vector<FillSetting> birth_settings() {
       real(FIELD(stop_share), T::Tuning,
            "Waves: pass 1 also ends when the births of the last `patience` steps are at most this share of the "
            "particles (-1: automatic, 0.03 under a max_overlap below 0.01, else 0.003)"),
+      real(FIELD(max_overfill), T::Tuning,
+           "Waves of equal spheres under a max_overlap below 0.01: pass 1 also ends when the particles are this "
+           "share over the expected count (-1: never)"),
       whole(FIELD(max_steps), T::Tuning, 0,
             "Step budget of pass 1 (0: automatic, 100 a particle + 20,000); when it runs out, pass 1 ends with "
             "what is in"),
