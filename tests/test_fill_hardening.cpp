@@ -214,7 +214,7 @@ TEST_CASE("hostile numbers in the settings are refused by name before any work")
   for (const Case& c : cases)
     for (double v : {nan, inf, -inf, -1.0, 1e300}) {
       const std::string name = c.name;
-      // In range without a mesh (a birth point at -1, the automatic stop share),
+      // In range without a mesh (a birth point at -1, the automatic stop share, no overfill cap),
       // or out of range only for a mesh (1e300 as radius, birth point, damping: the next test).
       if ((v == -1.0 && (name == "birth" || name == "stop_share" || name == "max_overfill")) ||
           (v == 1e300 && (name == "radius" || name == "birth" || name == "damping")))

@@ -114,7 +114,7 @@ struct FillOptions {
   /// asked for, or the one the radius gives). Past that, births only
   /// overfill what the finish deletes: spot -n 16000 ended pass 1 1.9%
   /// over and its finish deleted 119-234 spheres in 6,400-9,400 steps; held
-  /// to 0.5% over, 6-24 in 2,000-3,700, and it packed denser. -1: no such end.
+  /// to 0.5% over, 6-24 in 2,000-3,700, as densely. -1: no such end.
   double max_overfill = 0.005;
   uint64_t max_steps = 0;       ///< step budget of pass 1; 0: 100 per expected particle + 20,000
   KineticEnergySettings ke;     ///< the report's kinetic-energy test (stop = ke)
