@@ -102,14 +102,17 @@ FillPlan plan_fill(const Box3& bounds, const MeshDiagnostics& d, const FillOptio
   // the wall acts on centres within r (1 + wall_margin) of the surface and
   // samples corners up to a cell diagonal beyond that; holes need depth r;
   // wave sites need depth site_min_depth r (2 r by default), which values
-  // at least the band deep prove. Outside, only the sign and the way back
-  // in matter, for the few spacings a centre can overshoot the wall. (Was
-  // max(3 r, 4 spacings) on both sides: the bunny at -n 4000 made 1.21
-  // million exact queries, now 0.68 million, and half the time.) Unequal
+  // at least the band deep prove. Outside, the wall reads the corners of
+  // a centre's cell, up to a cell diagonal (1.73 spacings) beyond the
+  // surface; farther out only the sign matters (a centre there is flagged
+  // and removed), so 2 spacings (tests/test_fill_plan.cpp checks the
+  // corners). (Was max(3 r, 4 spacings) on both sides: the bunny at -n
+  // 4000 made 1.21 million exact queries; 0.68 million with 4 spacings
+  // outside, 0.54 million with 2, the same fills to the byte.) Unequal
   // spheres: the wall pushes each at its own radius, so the band reaches
   // past the largest's.
   so.band = std::max({2 * plan.mean_radius, plan.max_radius + 2 * so.spacing, 4 * so.spacing});
-  so.outer_band = 4 * so.spacing;
+  so.outer_band = 2 * so.spacing;
   // Deeper in, exact values every 4 spacings (0.3% more queries): the
   // deepest point, where sites start, within about a radius (the octree's
   // coarsest lattice, 16 spacings, had the bunny's 7% short).
