@@ -95,6 +95,11 @@ std::pair<DeviceInfo, cl::Device> choose(const std::string& requested) {
 
 }  // namespace
 
+void preload_platforms() {
+  std::vector<cl::Platform> platforms;
+  cl::Platform::get(&platforms);  // (its status is the device's to report, when it opens)
+}
+
 std::vector<DeviceInfo> list_devices() {
   std::vector<DeviceInfo> out;
   for (const auto& d : enumerate()) out.push_back(d.first);
