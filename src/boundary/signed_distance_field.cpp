@@ -1,5 +1,6 @@
 // Narrow-band signed distance field: top-down octree refinement over the
 // grid, exact distances only where the surface may be within the band.
+#include <sys/mman.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -7,6 +8,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "pfill/error.hpp"
@@ -16,6 +18,19 @@ namespace pfill {
 namespace {
 
 constexpr float kFloatInf = std::numeric_limits<float>::infinity();
+
+// `n` zeros, on transparent huge pages where the kernel gives them: the
+// field's first touch was its 4 KiB pages' faults (spot -n 16000: 0.16 s of
+// a 0.8 s field, 61 MB at ~10 us a fault in a VM).
+void zeros_on_huge_pages(std::vector<float>& values, size_t n) {
+  values = std::vector<float>();
+  values.reserve(n);
+  constexpr uintptr_t kHuge = uintptr_t(2) << 20;
+  const auto first = reinterpret_cast<uintptr_t>(values.data()), end = first + n * sizeof(float);
+  const uintptr_t begin = (first + kHuge - 1) & ~(kHuge - 1), stop = end & ~(kHuge - 1);
+  if (stop > begin) madvise(reinterpret_cast<void*>(begin), stop - begin, MADV_HUGEPAGE);  // (advice: refused, nothing changes)
+  values.assign(n, 0.0f);
+}
 
 // A cell of the current level: its lower corner in grid indices; its upper
 // corner is lower + cell size, clamped to the grid.
@@ -333,7 +348,7 @@ ScalarGrid build_signed_distance_field(const Boundary& boundary, const SdfOption
   const double band = options.band < 0 ? 4 * h : options.band;
   const double outer_band = options.outer_band < 0 ? band : options.outer_band;
   if (std::isnan(band) || std::isnan(outer_band)) throw Error("signed distance field: the bands must be numbers");
-  grid.values.assign(static_cast<size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2], 0.0f);
+  zeros_on_huge_pages(grid.values, static_cast<size_t>(grid.dims[0]) * grid.dims[1] * grid.dims[2]);
 
   SdfStats local;
   FieldBuilder(boundary, grid, band, outer_band, options.inside_cell).run(options.progress, local);
