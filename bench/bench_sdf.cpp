@@ -10,10 +10,9 @@
 // --fill-radius R: the field a fill at particle radius R builds (spacing
 // 0.33 R, coarsened as the fill does past 2^26 samples; margin 2 R + 3
 // spacings), with the fill's bands before issue 32
-// (max(3 R, 4 spacings) on both sides) and now (max(2 R, 4 spacings)
-// inside, 4 spacings outside, exact every 4 spacings deeper in), built in
-// turn N times each; prints wall and CPU seconds, exact queries and the
-// deepest value of each build.
+// (max(3 R, 4 spacings) on both sides) and now (the fill's plan:
+// fill_plan.cpp), built in turn N times each; prints wall and CPU
+// seconds, exact queries and the deepest value of each build.
 //             [--threads T] [--json FILE] [MESH.obj ...]
 #include <tbb/global_control.h>
 
@@ -33,8 +32,10 @@
 #include <string>
 #include <vector>
 
+#include "fill/fill_plan.hpp"
 #include "pfill/boundary.hpp"
 #include "pfill/error.hpp"
+#include "pfill/mesh_diagnostics.hpp"
 #include "pfill/mesh_io.hpp"
 #include "pfill/sdf.hpp"
 #include "pfill/shapes.hpp"
@@ -137,22 +138,12 @@ int main(int argc, char** argv) {
     if (fill_radius > 0) {  // the fill's field, its bands before and after issue 32, in turn
       for (const Mesh& mesh : meshes) {
         const Boundary boundary(mesh);
-        const double r = fill_radius;
-        // fill_plan.cpp: 0.33 r, coarsened to stay within 2^26 samples.
-        double h = 0.33 * r;
-        const Vec3 size = mesh.bounds().size();
-        const double margin = 3 * h + 2 * r;
-        const double samples =
-            (size.x + 2 * margin) / h * ((size.y + 2 * margin) / h) * ((size.z + 2 * margin) / h);
-        const double most = static_cast<double>(size_t(1) << 26);
-        if (samples > most) h *= std::cbrt(samples / most) * 1.01;
-        SdfOptions before(h);
-        before.margin = 2 * r + 3 * h;
-        before.band = std::max(3 * r, 4 * h);
-        SdfOptions now = before;
-        now.band = std::max(2 * r, 4 * h);
-        now.outer_band = 4 * h;
-        now.inside_cell = 4;
+        FillOptions o;
+        o.radius = fill_radius;
+        const SdfOptions now = plan_fill(mesh.bounds(), diagnose(mesh), o).field;
+        SdfOptions before(now.spacing);  // the same lattice, both bands max(3 R, 4 spacings)
+        before.margin = now.margin;
+        before.band = std::max(3 * fill_radius, 4 * now.spacing);
         for (int t = 0; t < trials; ++t)
           for (int v = 0; v < 2; ++v) {
             SdfStats st;
