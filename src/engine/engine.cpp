@@ -49,6 +49,7 @@ constexpr size_t kMostLinkedRemovals = 8;
 struct Engine::Impl {
   EngineState state;
   std::unique_ptr<StepKernels> form;
+  std::vector<cl_float4> view_positions;  // birth_view's read, kept for the next
 
   Impl(Device& device, const EngineParams& params) : state(device, params), form(StepKernels::make(state)) {
     form->reserve(64);
@@ -204,6 +205,21 @@ std::vector<Particle> Engine::read_particles() {
     out[i].id = s.particles.ids[i];
   }
   return out;
+}
+
+BirthView Engine::birth_view(double, bool) {
+  const size_t count = size();
+  std::vector<cl_float4>& xs = impl_->view_positions;
+  impl_->state.particles.x().read(count, xs);
+  BirthView view;
+  view.centres.resize(count);
+  view.radii.resize(count);
+  for (size_t i = 0; i < count; ++i) {
+    view.centres[i] = {xs[i].s[0], xs[i].s[1], xs[i].s[2]};
+    view.radii[i] = xs[i].s[3];
+  }
+  view.own = count;
+  return view;
 }
 
 std::vector<size_t> Engine::sort_by_cells() {
