@@ -52,7 +52,7 @@ bool ray_hits(const Vec3& o, const Vec3& dir, const Vec3& a, const Vec3& b, cons
 
 // Whether two triangles sharing an edge (and only they) walk it the same
 // way. Sorted half-edges, not a map of lists: on a consistent mesh this is
-// all orient_faces does, and the map's allocations took 55 ms at 69k faces.
+// all orient_faces does (the bunny's 69k faces: 14 ms, the map's 27 ms).
 bool windings_disagree(const Mesh& mesh) {
   struct HalfEdge {
     uint64_t key;
