@@ -42,16 +42,21 @@ std::vector<Overlap> chains(size_t jams) {
   return out;
 }
 
+/// The rule at a 0.001 bound, half the estimated excess, and `jam_share`.
+RemovalRule rule_at(double jam_share) {
+  RemovalRule rule;
+  rule.max_overlap = 0.001;
+  rule.jam_share = jam_share;
+  rule.share = 0.5;
+  return rule;
+}
+
 }  // namespace
 
 TEST_CASE("finish removals: a tenth of the jams lose their most pressed sphere, the most pressed jams first") {
   const size_t jams = 20;
-  const FinishView view = view_of(3 * jams + 2);
-  RemovalRule rule;
-  rule.max_overlap = 0.001;
-  rule.jam_share = 0.1;
-  rule.share = 0.5;  // of an excess of 0.045 spheres in all: 1
-  const std::vector<size_t> out = most_compressed(view, chains(jams), rule);
+  // half of an excess of 0.045 spheres in all is 1
+  const std::vector<size_t> out = most_compressed(view_of(3 * jams + 2), chains(jams), rule_at(0.1));
   // a tenth of 20 jams; the excess's one is among them
   REQUIRE(out.size() == 2);
   CHECK(out[0] == 1);  // the middle sphere of the most pressed jam
@@ -60,12 +65,7 @@ TEST_CASE("finish removals: a tenth of the jams lose their most pressed sphere, 
 
 TEST_CASE("finish removals: at a jam share of 1 every jam loses its most pressed sphere, never one it touches") {
   const size_t jams = 20;
-  const FinishView view = view_of(3 * jams + 2);
-  RemovalRule rule;
-  rule.max_overlap = 0.001;
-  rule.jam_share = 1;
-  rule.share = 0.5;
-  const std::vector<size_t> out = most_compressed(view, chains(jams), rule);
+  const std::vector<size_t> out = most_compressed(view_of(3 * jams + 2), chains(jams), rule_at(1));
   CHECK(out.size() == jams);
   std::set<size_t> jams_hit;
   for (size_t i : out) {
