@@ -7,7 +7,6 @@
 // parts enclose it (a cavity), by ray parity.
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <vector>
 
 #include "pfill/mesh.hpp"
@@ -73,10 +72,9 @@ std::vector<HalfEdge> sorted_half_edges(const Mesh& mesh) {
 }
 
 // The run of the edge u-v's walks in `half`.
-std::pair<const HalfEdge*, const HalfEdge*> walks_of(const std::vector<HalfEdge>& half, uint32_t u, uint32_t v) {
-  const auto run = std::equal_range(half.begin(), half.end(), HalfEdge{edge_key(u, v), 0},
-                                    [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
-  return {half.data() + (run.first - half.begin()), half.data() + (run.second - half.begin())};
+auto walks_of(const std::vector<HalfEdge>& half, uint32_t u, uint32_t v) {
+  return std::equal_range(half.begin(), half.end(), HalfEdge{edge_key(u, v), 0},
+                          [](const HalfEdge& a, const HalfEdge& b) { return a.key < b.key; });
 }
 
 // Whether two triangles sharing an edge (and only they) walk it the same
