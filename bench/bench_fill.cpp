@@ -235,6 +235,12 @@ double pass_seconds(const nlohmann::ordered_json& j, const std::string& name) {
   return 0;
 }
 
+// " (N rebuilt)": the steps of a pass that rebuilt the lists, where counted.
+std::string rebuilt_on(const nlohmann::ordered_json& pass) {
+  if (!pass.contains("list_rebuilds")) return "";
+  return " (" + std::to_string(pass["list_rebuilds"].get<int64_t>()) + " rebuilt)";
+}
+
 void print_scale_row(size_t n, const nlohmann::ordered_json& j) {
   std::printf("| %zu | %zu | %.1f | %.1f | %.1f | %.0f (%.1f) | %.0f | %.0f (%.1f) | %.4f | %.3f%% r | %.2f r | %.2f%% | %.0f MiB |\n",
               n, j["count"].get<size_t>(), j["seconds"].get<double>(), j["cpu_seconds"].get<double>(),
@@ -246,9 +252,9 @@ void print_scale_row(size_t n, const nlohmann::ordered_json& j) {
     std::printf("|   | device busy %.0f%% of the time past the field:", 100 * j["device_busy"].get<double>());
     for (const auto& p : j["passes"])
       if (p.contains("kernel_seconds"))
-        std::printf(" %s %.0f steps %.2f s (kernels %.2f, transfers %.2f, host %.2f);", p["pass"].get<std::string>().c_str(),
-                    p["steps"].get<double>(), p["seconds"].get<double>(), p["kernel_seconds"].get<double>(),
-                    p["transfer_seconds"].get<double>(), p["host_seconds"].get<double>());
+        std::printf(" %s %.0f steps%s %.2f s (kernels %.2f, transfers %.2f, host %.2f);", p["pass"].get<std::string>().c_str(),
+                    p["steps"].get<double>(), rebuilt_on(p).c_str(), p["seconds"].get<double>(),
+                    p["kernel_seconds"].get<double>(), p["transfer_seconds"].get<double>(), p["host_seconds"].get<double>());
     std::printf(" |\n");
     // where each pass's kernel seconds went, the largest first
     for (const auto& p : j["passes"]) {

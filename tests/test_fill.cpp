@@ -37,6 +37,12 @@ void check_quality(const FillResult& r, double min_packing, double max_packing) 
   REQUIRE(r.passes.size() == 4);
   CHECK(r.passes[0].name == "pass 1");
   CHECK(r.passes[3].name == "finish");
+  // Lists rebuilt: on pass 1's first step at least (the engine starts
+  // without lists), never on more steps than a pass has; the finish's
+  // engine is not counted.
+  CHECK(r.passes[0].list_rebuilds >= 1);
+  for (size_t k = 0; k < 3; ++k) CHECK(r.passes[k].list_rebuilds <= static_cast<int64_t>(r.passes[k].steps));
+  CHECK(r.passes[3].list_rebuilds == -1);
 }
 
 }  // namespace

@@ -35,6 +35,7 @@ TEST_CASE("fill: passes 1-3 run on the reference engine, without an OpenCL devic
   CHECK(r.passes[0].name == "pass 1");
   CHECK(r.passes[0].steps > 0);
   CHECK(r.passes[2].name == "settle");
+  for (const PassStats& p : r.passes) CHECK(p.list_rebuilds == -1);  // (only the OpenCL engine's records say)
   CHECK_FALSE(r.stop_signal.empty());
   // Filled as the OpenCL engine fills (a sphere of 60 expected: well over half of them), contained.
   CHECK(r.particles.size() >= 40);

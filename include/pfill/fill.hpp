@@ -192,6 +192,12 @@ struct PassStats {
   double kernel_seconds = -1;
   double transfer_seconds = -1;
   std::map<std::string, double> kernel_split{};  ///< profiled: kernel_seconds by kernel name
+  /// Steps of the pass that rebuilt the neighbour lists (a rebuild costs a
+  /// few plain steps: pass 1's rebuilds are a third of its kernel time at
+  /// 1e5). Counted from the OpenCL engine's step records for passes 1, 2
+  /// and the settle; -1 where not counted (the finish, whose FIRE record
+  /// carries the power instead; other engines).
+  int64_t list_rebuilds = -1;
 };
 
 struct FillResult {

@@ -332,7 +332,9 @@ void run_fill(FillArgs& a, const CLI::App& cmd) {
   for (const PassStats& p : r.passes)
     passes += (passes.empty() ? "" : ", ") + p.name + " " + thousands(p.steps) + " steps " + num(p.seconds, 3) + "s" +
               (p.kernel_seconds >= 0  // PFILL_PROFILE=1
-                   ? " [kernels " + num(p.kernel_seconds, 3) + "s, transfers " + num(p.transfer_seconds, 3) + "s]"
+                   ? " [kernels " + num(p.kernel_seconds, 3) + "s, transfers " + num(p.transfer_seconds, 3) + "s" +
+                         (p.list_rebuilds >= 0 ? ", lists rebuilt on " + thousands(p.list_rebuilds) + " steps" : "") +
+                         "]"
                    : std::string());
   std::printf("  time            %.1fs (field %.1fs; set-up %ss; %s; verify %ss)\n", r.seconds, r.field_seconds,
               num(r.setup_seconds, 2).c_str(), passes.c_str(), num(r.verify_seconds, 2).c_str());

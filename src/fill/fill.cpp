@@ -83,6 +83,8 @@ FillResult FillRun::run() {
   note_device_times();
   passes.settle();
   note_device_times();
+  if (o_.engine)  // (another engine's records do not say when it rebuilt its lists)
+    for (PassStats& p : result_.passes) p.list_rebuilds = -1;
   result_.sites = passes.all_sites();
   finish(passes.next_id());
   note_device_times();

@@ -92,7 +92,7 @@ void FillPasses::place_large_first(const LargePlacer& place) {
 // ---- pass 1: births until the object is overfull ----
 void FillPasses::pass1() {
   const Stopwatch t;
-  const uint64_t first = engine_.steps_done();
+  const uint64_t first = engine_.steps_done(), rebuilds_before = rebuilds_;
   const uint64_t budget = o_.max_steps ? o_.max_steps : 100 * static_cast<uint64_t>(plan_.expected) + 20000;
   KineticEnergyTest ke(o_.ke);
   CollisionCountTest collisions(o_.collisions);
@@ -170,14 +170,14 @@ void FillPasses::pass1() {
       stop("budget", "the step budget of pass 1 (" + std::to_string(budget) + " steps) ran out");
     }
   }
-  result_.passes.push_back({to_string(FillPhase::Pass1), engine_.steps_done() - first, t.seconds()});
+  end_pass(FillPhase::Pass1, first, rebuilds_before, t.seconds());
   reporter_.time_left().pass1_ended();
 }
 
 // ---- pass 2: MaxParts = count - 1; top up to it ----
 void FillPasses::pass2() {
   const Stopwatch t;
-  const uint64_t first = engine_.steps_done();
+  const uint64_t first = engine_.steps_done(), rebuilds_before = rebuilds_;
   reporter_.enter(FillPhase::Pass2);
   result_.max_parts = engine_.size() > 0 ? engine_.size() - 1 : 0;
   if (engine_.size() > result_.max_parts && engine_.size() > 1) remove_newest();
@@ -187,13 +187,13 @@ void FillPasses::pass2() {
     const bool any = std::any_of(born.begin(), born.end(), [](int b) { return b > 0; });
     idle = any ? 0 : idle + static_cast<int>(born.size());
   }
-  result_.passes.push_back({to_string(FillPhase::Pass2), engine_.steps_done() - first, t.seconds()});
+  end_pass(FillPhase::Pass2, first, rebuilds_before, t.seconds());
 }
 
 // ---- settle: run until at rest ----
 void FillPasses::settle() {
   const Stopwatch t;
-  const uint64_t first = engine_.steps_done();
+  const uint64_t first = engine_.steps_done(), rebuilds_before = rebuilds_;
   reporter_.enter(FillPhase::Settle);
   reporter_.time_left().settle_started(first);
   int calm = 0;
@@ -207,7 +207,7 @@ void FillPasses::settle() {
       break;
     }
   }
-  result_.passes.push_back({to_string(FillPhase::Settle), engine_.steps_done() - first, t.seconds()});
+  end_pass(FillPhase::Settle, first, rebuilds_before, t.seconds());
 }
 
 /// Runs a batch of steps (with birth attempts when `births`), then reads
@@ -226,6 +226,7 @@ std::vector<int> FillPasses::run_batch(bool births) {
     engine_.run_steps(1);
   }
   history_ = engine_.read_history();
+  for (const StepRecord& r : history_) rebuilds_ += r.lists_rebuilt;
   uint32_t flagged = 0;
   for (const StepRecord& r : history_) flagged = std::max(flagged, r.flagged);
   if (flagged > 0) {
@@ -248,6 +249,13 @@ std::vector<int> FillPasses::run_batch(bool births) {
     reporter_.report(engine_.size(), history_.back().kinetic_energy, history_.back().colliding_pairs,
                      engine_.steps_done(), 0);
   return born;
+}
+
+/// A pass's record: its steps, the lists rebuilt on them, its time.
+void FillPasses::end_pass(FillPhase phase, uint64_t first_step, uint64_t rebuilds_before, double seconds) {
+  PassStats p{to_string(phase), engine_.steps_done() - first_step, seconds};
+  p.list_rebuilds = static_cast<int64_t>(rebuilds_ - rebuilds_before);
+  result_.passes.push_back(p);
 }
 
 /// Pass 2 births only up to MaxParts.

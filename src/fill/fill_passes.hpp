@@ -68,6 +68,7 @@ class FillPasses {
  private:
   std::vector<int> run_batch(bool births);
   bool may_birth() const;
+  void end_pass(FillPhase phase, uint64_t first_step, uint64_t rebuilds_before, double seconds);
   int birth_at_sites();
   int birth_wave();
   void take_birth_view();
@@ -101,6 +102,7 @@ class FillPasses {
   FillResult& result_;
   double top_speed_ = 0;
   std::vector<StepRecord> history_;
+  uint64_t rebuilds_ = 0;  ///< steps so far whose records say the lists were rebuilt
   std::vector<Vec3> snapshot_;   ///< positions at the last read, for the room tests (this process's view)
   /// The last read's view minus its centres and radii (moved to the
   /// snapshot): which sites this process decides (birth_view.hpp).

@@ -39,6 +39,7 @@ nlohmann::ordered_json radii_json(const RadiusDistribution& d, const Distributio
 
 nlohmann::ordered_json pass_json(const PassStats& p) {
   nlohmann::ordered_json j = {{"pass", p.name}, {"steps", p.steps}, {"seconds", p.seconds}};
+  if (p.list_rebuilds >= 0) j["list_rebuilds"] = p.list_rebuilds;
   if (p.kernel_seconds < 0) return j;  // not profiled
   j["kernel_seconds"] = p.kernel_seconds;
   j["transfer_seconds"] = p.transfer_seconds;
