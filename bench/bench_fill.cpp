@@ -252,9 +252,10 @@ void print_scale_row(size_t n, const nlohmann::ordered_json& j) {
     std::printf("|   | device busy %.0f%% of the time past the field:", 100 * j["device_busy"].get<double>());
     for (const auto& p : j["passes"])
       if (p.contains("kernel_seconds"))
-        std::printf(" %s %.0f steps%s %.2f s (kernels %.2f, transfers %.2f, host %.2f);", p["pass"].get<std::string>().c_str(),
-                    p["steps"].get<double>(), rebuilt_on(p).c_str(), p["seconds"].get<double>(),
-                    p["kernel_seconds"].get<double>(), p["transfer_seconds"].get<double>(), p["host_seconds"].get<double>());
+        std::printf(" %s %.0f steps%s %.2f s (kernels %.2f, transfers %.2f, host %.2f);",
+                    p["pass"].get<std::string>().c_str(), p["steps"].get<double>(), rebuilt_on(p).c_str(),
+                    p["seconds"].get<double>(), p["kernel_seconds"].get<double>(), p["transfer_seconds"].get<double>(),
+                    p["host_seconds"].get<double>());
     std::printf(" |\n");
     // where each pass's kernel seconds went, the largest first
     for (const auto& p : j["passes"]) {
