@@ -328,6 +328,14 @@ void pf_rebuild_cell_mates(pf_rebuild* b, uint i, uint end, const pf_stencil* st
   }
 }
 
+/* inner_count's mark of a particle whose pair loop reads its whole list
+ * (no room left for its inner list in its block's share) */
+#define PF_FULL_ROW UINT_MAX
+/* For tests: 1 reads every whole list, as if no block had room */
+#ifndef PF_INNER_FULL_ROWS
+#define PF_INNER_FULL_ROWS 0
+#endif
+
 /* The pair forces of a step on CPU devices, before `advance` (which adds
  * them up). Work-group w of W (one work-item each) takes particles
  * [w B, (w + 1) B), B = ceil(n / W), in order. With PF_NEWTON it sums
@@ -372,10 +380,12 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
   uint newest = 0u;
 #if PF_INNER
   /* The block's inner lists lie packed one after the other from the
-   * block's first row on (a pruning writes them all, and the count and so
-   * the blocks cannot change before the next: births and removals make the
-   * next step prune), so the pair loop streams them. */
-  __global uint* inner_next = PF_ROW(inner_list, w * per);
+   * block's first PF_INNER_CAP words a particle on (a pruning writes them
+   * all, and the count and so the blocks cannot change before the next:
+   * births and removals make the next step prune), so the pair loop
+   * streams them. */
+  __global uint* inner_next = inner_list + (size_t)(w * per) * PF_INNER_CAP;
+  __global const uint* const inner_end = inner_list + (size_t)end * PF_INNER_CAP;
 #endif
   /* a rebuild packs the block's rows from its first PF_ROW_STRIDE words on */
   pf_rebuild b = {list, list_count, spans, XREF, build_bits, w * per * PF_ROW_STRIDE};
@@ -403,19 +413,32 @@ __kernel __attribute__((reqd_work_group_size(1, 1, 1))) void pair_forces(
       if ((newcomer.x | newcomer.y | newcomer.z | newcomer.w) != 0) pf_sort_row(row, count);
     }
 #if PF_INNER
-    /* the pairs read the inner list, pruned from the list when due */
-    __global uint* inner = inner_next;
+    /* the pairs read the inner list, pruned from the list when due; the
+     * list itself where the block's room left might not take it (its
+     * count bounds the inner list's; PF_INNER_CAP a particle is a bound as
+     * the list's capacity is, so this is for safety, not seen) */
     if (prune) {
-      count = pf_prune_row(i, xi, row, count, X, inner, &touching);
-      inner_count[i] = (uint2)(count, touching);
+      if (!PF_INNER_FULL_ROWS && inner_next + count + 8u <= inner_end) {
+        count = pf_prune_row(i, xi, row, count, X, inner_next, &touching);
+        inner_count[i] = (uint2)(count, touching);
+        row = inner_next;
+        inner_next += count;
+      } else {
+        inner_count[i] = (uint2)(PF_FULL_ROW, 0u);
+        touching = count;
+      }
       XPRUNE[i] = xi;
     } else {
       const uint2 counts = inner_count[i];
-      count = counts.x;
-      touching = counts.y;
+      if (counts.x == PF_FULL_ROW) {
+        touching = count;
+      } else {
+        count = counts.x;
+        touching = counts.y;
+        row = inner_next;
+        inner_next += count;
+      }
     }
-    inner_next += count;
-    row = inner;
 #else
     touching = count;
 #endif

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <optional>
 #include <string>
 #include <random>
 #include <vector>
@@ -133,5 +134,26 @@ inline ListsCompared compare_lists(std::vector<std::vector<uint32_t>> got, std::
   }
   return out;
 }
+
+/// PFILL_CL_OPTIONS set to `options` while this lives (programs take the
+/// options of the moment: e.g. a kernel variant's -D), then as it was.
+class ScopedClOptions {
+ public:
+  explicit ScopedClOptions(const std::string& options) {
+    if (const char* was = std::getenv("PFILL_CL_OPTIONS")) before_ = was;
+    setenv("PFILL_CL_OPTIONS", options.c_str(), 1);
+  }
+  ~ScopedClOptions() {
+    if (before_)
+      setenv("PFILL_CL_OPTIONS", before_->c_str(), 1);
+    else
+      unsetenv("PFILL_CL_OPTIONS");
+  }
+  ScopedClOptions(const ScopedClOptions&) = delete;
+  ScopedClOptions& operator=(const ScopedClOptions&) = delete;
+
+ private:
+  std::optional<std::string> before_;
+};
 
 }  // namespace pfill::test

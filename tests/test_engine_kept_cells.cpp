@@ -7,9 +7,7 @@
 
 #include "skip.hpp"
 
-#include <cstdlib>
 #include <memory>
-#include <optional>
 #include <string>
 
 #include "engine_fixtures.hpp"
@@ -31,18 +29,10 @@ EngineParams wall_params() {
   return p;
 }
 
-/// An engine whose kernels are built with PFILL_CL_OPTIONS set to `options`
-/// (restored afterwards): programs take the options of the moment.
+/// An engine whose kernels are built with PFILL_CL_OPTIONS set to `options`.
 std::unique_ptr<Engine> engine_built_with(const std::string& options, const EngineParams& p) {
-  const char* was = std::getenv("PFILL_CL_OPTIONS");
-  const std::optional<std::string> before = was ? std::optional<std::string>(was) : std::nullopt;
-  setenv("PFILL_CL_OPTIONS", options.c_str(), 1);
-  auto engine = std::make_unique<Engine>(shared_device(), p);
-  if (before)
-    setenv("PFILL_CL_OPTIONS", before->c_str(), 1);
-  else
-    unsetenv("PFILL_CL_OPTIONS");
-  return engine;
+  const ScopedClOptions with(options);
+  return std::make_unique<Engine>(shared_device(), p);
 }
 
 }  // namespace

@@ -34,7 +34,7 @@ void NeighbourLists::reserve(size_t cap, size_t blocks) {
   const size_t inner_cap = layout_.inner ? cap : 1;  // (a word each when unused)
   // Packed rows (see pair_forces): 8 entries of slack for the pair loop's
   // eights past the last row's end; zeroed, as the lists are.
-  inner_rows = zeroed((inner_cap * row + 8) * sizeof(cl_uint), "inner neighbour lists");
+  inner_rows = zeroed((inner_cap * layout_.inner_capacity + 8) * sizeof(cl_uint), "inner neighbour lists");
   // Read only after a pruning wrote them: the first step after this prunes,
   // as does the step after any linked birth or removal.
   inner_counts = device_.make_buffer(inner_cap * sizeof(cl_uint2), "inner neighbour list counts");

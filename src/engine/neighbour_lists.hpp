@@ -14,6 +14,7 @@ namespace pfill {
 
 struct ListLayout {
   size_t list_capacity = 0;  // entries a row (PF_LIST_CAP)
+  size_t inner_capacity = 0; // inner lists: words a particle of their buffer (PF_INNER_CAP)
   bool newton = false;       // CPU form, each pair listed once: rows packed per pair_forces block
   bool inner = false;        // CPU form with inner lists (dynamic pruning)
   bool gpu = false;          // GPU form: rows interleaved by 32 particles, entries plain indices (gpu_lists.cl)

@@ -42,7 +42,8 @@ EngineState::EngineState(Device& d, const EngineParams& p)
       params(with_skin(p, choices)),
       constants(checked_constants(d, params)),
       particles(d),
-      lists(d, ListLayout{constants.list_capacity, choices.newton, choices.inner_lists, choices.gpu_form}),
+      lists(d, ListLayout{constants.list_capacity, constants.inner_capacity, choices.newton, choices.inner_lists,
+                          choices.gpu_form}),
       cells(d, constants.cell_size, constants.cell_capacity, constants.cell_levels, constants.cell_capacity_up),
       wall(d, params.field_image),
       fire(d, "FIRE state") {
@@ -90,6 +91,7 @@ std::map<std::string, std::string> shared_defines(const EngineState& s) {
       {"PF_NEWTON", s.choices.newton ? "1" : "0"},
       {"PF_PAIR_QUEUE", s.choices.pair_queue ? "1" : "0"},
       {"PF_INNER", s.choices.inner_lists ? "1" : "0"},
+      {"PF_INNER_CAP", std::to_string(c.inner_capacity) + "u"},
       {"PF_RI2", flt(c.inner_reach * c.inner_reach)},
       {"PF_INNER_SKIN", flt(c.inner_skin)},
       {"PF_CONTACT", flt(c.contact_distance)},

@@ -51,12 +51,6 @@ namespace {
 // 0.466 / 0.526); 1.5 r deleted a third of what it inserted.
 constexpr double kCompressClearance = 1.7;
 
-// The finish's inner lists (FinishSettings::inner_lists) up to this many
-// spheres: their buffer is the size of the lists (~290 MiB at 1e6, where
-// it took the fill's peak from 1,346 to 1,639 MiB for a 6% faster pair
-// loop); at 1e5 ~30 MiB for ~9%, at 16,000 ~12% (docs/benchmarks.md).
-constexpr double kFinishInnerListsMost = 250000;
-
 // PFILL_PROFILE=1 (any value but empty or 0): the fill's queue profiles
 // every command, and each pass reports its kernel and transfer time.
 bool profile_requested() {
@@ -256,7 +250,6 @@ FinishSettings FillRun::finish_settings() const {
   // with each pair's energy by its volume (eps q^3) FIRE still ends
   // below the damped relaxation for mixtures (docs/polydisperse.md).
   s.fire = (device_ != nullptr || o_.finish_on_engine) && s.compress_clearance == 0 && !plan_.sizes;
-  s.inner_lists = plan_.expected <= kFinishInnerListsMost;
   s.first_id = next_id_;
   s.cancelled = o_.cancelled;
   s.wall = wall_.get();

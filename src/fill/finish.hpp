@@ -45,7 +45,8 @@ struct FinishSettings {
   /// the `cpu` form's): its spheres move little, so a pruning is rarely due
   /// and the pair loop reads the few partners in contact, not every entry
   /// within the skin. The same spheres either way, faster, for a second
-  /// buffer the size of the lists (the fill: up to 250,000 spheres).
+  /// buffer bounded at the inner reach (EngineConstants::inner_capacity:
+  /// ~100 MiB at 1e6).
   bool inner_lists = true;
   double damping = 0.01;        ///< damped dynamics: share of every velocity lost each step (little: inertia crosses the soft modes faster)
   int chunk_steps = 100;        ///< relaxation steps between reads of the step history

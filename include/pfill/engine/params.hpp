@@ -219,7 +219,11 @@ struct EngineConstants {
   double list_reach = 0;       ///< max(q cutoff, 2 max_radius, q rest distance) + skin, q = max_radius / radius when polydisperse, else 1
   unsigned list_capacity = 0;  ///< neighbours a list can hold (more are dropped and counted as overflow)
   double inner_skin = 0;       ///< inner-list skin (EngineParams::inner_lists)
-  double inner_reach = 0;      ///< max(q cutoff, 2 max_radius, q rest distance) + inner_skin (inner lists hold list_capacity)
+  double inner_reach = 0;      ///< max(q cutoff, 2 max_radius, q rest distance) + inner_skin
+  /// Words a particle of the inner lists' buffer (EngineParams::inner_lists):
+  /// a block's inner rows are packed into this many a particle, a bound on
+  /// the entries within the inner reach, as list_capacity is on the list's.
+  unsigned inner_capacity = 0;
   int a_half = 0, b_half = 0;  ///< a/2, b/2 when even integers (fast powers), else 0
 };
 
