@@ -148,10 +148,11 @@ EngineConstants derive_constants(const EngineParams& p) {
   c.inner_skin = p.inner_skin_sigma * c.sigma;
   c.inner_reach = std::max({c.cutoff * q_max, 2 * c.max_radius, rest * q_max}) + c.inner_skin;
   // Inner rows bounded as the lists are, at the inner reach (unequal
-  // spheres: as the lists): at 1e6 the finish's inner buffer is then ~100
-  // MiB, not the lists' ~290 (docs/benchmarks.md, 2026-12-08).
-  const double in_inner =
-      c.polydisperse ? in_reach : 4.0 / 3.0 * M_PI * std::pow(c.inner_reach, 3) * 0.74 / (M_PI / 6 * std::pow(s_list, 3));
+  // spheres: as the lists): at 1e6 the finish's inner rows then take ~110
+  // MiB, not the lists' ~180 (docs/benchmarks.md, 2026-12-08).
+  const double in_inner = c.polydisperse ? in_reach
+                                          : 4.0 / 3.0 * M_PI * std::pow(c.inner_reach, 3) * 0.74 /
+                                                (M_PI / 6 * std::pow(s_list, 3));
   c.inner_capacity = std::min(c.list_capacity, (static_cast<unsigned>(std::ceil(in_inner) + 8) + 7) / 8 * 8);
   c.a_half = even_half(a);
   c.b_half = even_half(b);

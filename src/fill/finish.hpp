@@ -46,7 +46,7 @@ struct FinishSettings {
   /// and the pair loop reads the few partners in contact, not every entry
   /// within the skin. The same spheres either way, faster, for a second
   /// buffer bounded at the inner reach (EngineConstants::inner_capacity:
-  /// ~100 MiB at 1e6).
+  /// ~120 MiB more at 1e6).
   bool inner_lists = true;
   double damping = 0.01;        ///< damped dynamics: share of every velocity lost each step (little: inertia crosses the soft modes faster)
   int chunk_steps = 100;        ///< relaxation steps between reads of the step history
