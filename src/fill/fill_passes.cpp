@@ -226,9 +226,11 @@ std::vector<int> FillPasses::run_batch(bool births) {
     engine_.run_steps(1);
   }
   history_ = engine_.read_history();
-  for (const StepRecord& r : history_) rebuilds_ += r.lists_rebuilt;
   uint32_t flagged = 0;
-  for (const StepRecord& r : history_) flagged = std::max(flagged, r.flagged);
+  for (const StepRecord& r : history_) {
+    flagged = std::max(flagged, r.flagged);
+    rebuilds_ += r.lists_rebuilt;
+  }
   if (flagged > 0) {
     const std::vector<size_t> out = take_flagged(engine_);
     result_.lost_outside += out.size();
